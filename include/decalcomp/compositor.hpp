@@ -1,0 +1,58 @@
+#pragma once
+// Composites a decal scene into G-buffer frames on an OpenCL device.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "decalcomp/camera.hpp"
+#include "decalcomp/decal.hpp"
+#include "decalcomp/device.hpp"
+#include "decalcomp/gbuffer.hpp"
+
+namespace decalcomp {
+
+struct CompositeOptions {
+    bool binned = true;  // false: every pixel tests every decal (for tests and benchmarks)
+};
+
+struct CompositeStats {
+    int decals = 0;
+    int tiles = 0;
+    std::int64_t bin_entries = 0;  // sum over tiles of the tile's decal count
+    // Device time from profiling events, milliseconds.
+    double tile_bounds_ms = 0, binning_ms = 0, shading_ms = 0;
+    double totalKernelMs() const { return tile_bounds_ms + binning_ms + shading_ms; }
+};
+
+// What the binning produced for the last frame, for tests and `--stats`.
+struct BinningResult {
+    int tiles_x = 0, tiles_y = 0;
+    std::vector<float> tile_depth;   // min, max planar depth per tile; min > max for empty tiles
+    std::vector<int> tile_offsets;   // tiles + 1 entries
+    std::vector<int> tile_decals;    // decal indices, per tile in scene order
+};
+
+class Compositor {
+public:
+    explicit Compositor(ComputeDevice& device);
+    ~Compositor();
+    Compositor(const Compositor&) = delete;
+    Compositor& operator=(const Compositor&) = delete;
+
+    // Uploads the scene's textures once; decals are re-prepared per frame (they depend on the camera).
+    void setScene(const DecalScene& scene);
+
+    // Blends the scene's decals into frame's albedo plane in place. The frame needs an albedo plane
+    // and a depth or position plane matching its depth convention. Throws Error(Input/Device).
+    CompositeStats composite(GBuffer& frame, const Camera& camera, const CompositeOptions& options = {});
+
+    // Tile depth ranges and per-tile lists of the last binned composite (downloaded on request).
+    BinningResult lastBinning();
+
+private:
+    struct State;
+    ComputeDevice& device_;
+    std::unique_ptr<State> state_;
+};
+
+}  // namespace decalcomp

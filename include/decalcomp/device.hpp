@@ -1,0 +1,52 @@
+#pragma once
+// OpenCL device selection and the built decalcomp program.
+#include <CL/opencl.hpp>
+
+#include <string>
+#include <vector>
+
+namespace decalcomp {
+
+struct DeviceInfo {
+    int index = 0;  // position in listDevices(), stable for a given machine
+    std::string name, vendor, platform, version, type;  // type: "gpu", "cpu", "accelerator", "other"
+    cl::Device device;
+    cl::Platform platform_handle;
+};
+
+// Every device of every platform, in platform then device order. Empty when no ICD is installed.
+std::vector<DeviceInfo> listDevices();
+
+// Picks a device: "" = first GPU, else first CPU, else the first device; a number = that index;
+// "gpu"/"cpu"/"accelerator" = first of that type; any other text = first whose name, vendor or
+// platform contains it (case-insensitive). Throws Error(Device) listing the devices on no match.
+DeviceInfo selectDevice(const std::string& selector);
+
+// Names an OpenCL status code ("CL_INVALID_VALUE"), or "CL error N" for unknown codes.
+std::string clErrorName(int code);
+
+// A context and in-order profiling queue on one device, with the embedded program built once.
+class ComputeDevice {
+public:
+    explicit ComputeDevice(const std::string& selector = "");
+    const DeviceInfo& info() const { return info_; }
+    cl::Context& context() { return context_; }
+    cl::CommandQueue& queue() { return queue_; }
+    // Builds on first use. Throws Error(Device) with the device name, options and full build log.
+    cl::Program& program();
+
+private:
+    DeviceInfo info_;
+    cl::Context context_;
+    cl::CommandQueue queue_;
+    cl::Program program_;
+    bool built_ = false;
+};
+
+// The program source handed to the OpenCL compiler: shared headers then kernels, in order.
+// DECALCOMP_KERNEL_DIR in the environment makes it read kernels/ from disk instead (iteration).
+std::string programSource();
+// Options used for every build.
+std::string buildOptions();
+
+}  // namespace decalcomp

@@ -1,0 +1,45 @@
+#pragma once
+// A frame's attribute planes in float, decoupled from the file they came from.
+#include <array>
+#include <cstddef>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace decalcomp {
+
+enum class Attribute { Depth, Albedo, Normal, Position, ObjectId, UV, Roughness, Metallic };
+constexpr std::array<Attribute, 8> kAllAttributes = {Attribute::Depth,    Attribute::Albedo,
+                                                     Attribute::Normal,   Attribute::Position,
+                                                     Attribute::ObjectId, Attribute::UV,
+                                                     Attribute::Roughness, Attribute::Metallic};
+const char* attributeName(Attribute a);             // "depth", "albedo", ...
+std::optional<Attribute> attributeFromName(const std::string& name);
+int attributeComponents(Attribute a);                // depth 1, albedo 3, normal 3, uv 2 ...
+
+enum class DepthConvention { Planar, Radial, Ndc, Position };
+const char* depthConventionName(DepthConvention c);  // "planar", "radial", "ndc", "position"
+std::optional<DepthConvention> depthConventionFromName(const std::string& name);
+
+// Interleaved float samples, `components` per pixel, rows top to bottom.
+struct Plane {
+    int components = 0;
+    std::vector<float> samples;
+    float& at(std::size_t pixel, int c) { return samples[pixel * components + c]; }
+    float at(std::size_t pixel, int c) const { return samples[pixel * components + c]; }
+};
+
+struct GBuffer {
+    int width = 0, height = 0;                  // data window size
+    int origin_x = 0, origin_y = 0;             // data window min minus display window min
+    int display_width = 0, display_height = 0;  // display window size (defines NDC)
+    DepthConvention depth_convention = DepthConvention::Planar;
+    bool reversed_z = false;                    // only for DepthConvention::Ndc
+    std::map<Attribute, Plane> planes;
+
+    bool has(Attribute a) const { return planes.count(a) != 0; }
+    std::size_t pixelCount() const { return std::size_t(width) * std::size_t(height); }
+};
+
+}  // namespace decalcomp

@@ -1,0 +1,58 @@
+/* Camera-space position of a G-buffer pixel from its depth or position pass
+ * (docs/conventions.md: pixel centres, depth conventions, background). */
+#ifndef DECALCOMP_RECONSTRUCT_H
+#define DECALCOMP_RECONSTRUCT_H
+
+__constant sampler_t dc_pixel_sampler =
+    CLK_NORMALIZED_COORDS_FALSE | CLK_ADDRESS_CLAMP_TO_EDGE | CLK_FILTER_NEAREST;
+
+/* NDC of the centre of data-window pixel (x, y); row 0 is the top row. */
+inline float2 dc_pixel_ndc(__constant const DcFrame* f, int x, int y) {
+    return (float2)(2.0f * ((float)(x + f->origin_x) + 0.5f) / (float)f->display_width - 1.0f,
+                    1.0f - 2.0f * ((float)(y + f->origin_y) + 0.5f) / (float)f->display_height);
+}
+
+inline float3 dc_unproject(__constant const DcFrame* f, float2 ndc, float ndc_z) {
+    const float4 c = dc_mul4_constant(f->inv_projection, (float4)(ndc, ndc_z, 1.0f));
+    return c.xyz / c.w;
+}
+
+inline bool dc_is_background_depth(float d) { return !(d > 0.0f) || isinf(d) || d >= DC_BACKGROUND_DEPTH; }
+
+/* Writes the camera-space point of pixel (x, y) and returns true, or returns false for
+ * background (invalid depth, beyond the far plane, or too close to the camera). */
+inline bool dc_reconstruct(__constant const DcFrame* f, __read_only image2d_t depth_image,
+                           __read_only image2d_t position_image, int x, int y, float3* p_out) {
+    const int2 xy = (int2)(x, y);
+    const float2 ndc = dc_pixel_ndc(f, x, y);
+    float3 p;
+    float d = 1.0f;
+    if (f->has_depth) d = read_imagef(depth_image, dc_pixel_sampler, xy).x;
+
+    if (f->depth_convention == DC_DEPTH_POSITION) {
+        if (f->has_depth && dc_is_background_depth(d)) return false;
+        const float3 w = read_imagef(position_image, dc_pixel_sampler, xy).xyz;
+        if (any(isnan(w)) || any(isinf(w))) return false;
+        p = dc_affine_constant(f->world_to_camera, w);
+    } else if (f->depth_convention == DC_DEPTH_NDC) {
+        if (isnan(d) || (f->reversed_z ? d <= 0.0f : d >= 1.0f) || d < 0.0f || d > 1.0f) return false;
+        const float ndc_z = f->reversed_z ? 1.0f - 2.0f * d : 2.0f * d - 1.0f;
+        p = dc_unproject(f, ndc, ndc_z);
+    } else {
+        if (dc_is_background_depth(d)) return false;
+        if (f->orthographic) {
+            const float3 a = dc_unproject(f, ndc, -1.0f);
+            p = (float3)(a.x, a.y, -d);
+        } else {
+            const float3 q = dc_unproject(f, ndc, 1.0f); /* on the pixel's ray, in front */
+            p = (f->depth_convention == DC_DEPTH_RADIAL) ? normalize(q) * d : q * (d / -q.z);
+        }
+    }
+    if (!f->orthographic && !(-p.z >= DC_MIN_VIEW_DEPTH)) return false;
+    if (f->far_plane > 0.0f && -p.z > f->far_plane) return false;
+    if (any(isnan(p)) || any(isinf(p))) return false;
+    *p_out = p;
+    return true;
+}
+
+#endif

@@ -1,0 +1,83 @@
+/* Plain structs shared by the host (C++) and the kernels (OpenCL C 1.2).
+ * Only 4-byte scalars and arrays of them, so both compilers lay them out identically;
+ * src/cl/shared_types_check.cpp static_asserts every size and offset. */
+#ifndef DECALCOMP_SHARED_TYPES_H
+#define DECALCOMP_SHARED_TYPES_H
+
+#ifdef __OPENCL_VERSION__
+#define DC_INT int
+#define DC_FLOAT float
+#else
+#include <cstdint>
+#define DC_INT std::int32_t
+#define DC_FLOAT float
+namespace decalcomp::cl_types {
+#endif
+
+/* Depth conventions, see docs/conventions.md. */
+#define DC_DEPTH_PLANAR 0
+#define DC_DEPTH_RADIAL 1
+#define DC_DEPTH_NDC 2
+#define DC_DEPTH_POSITION 3
+
+#define DC_KIND_BOX 0
+
+/* Screen tiles are DC_TILE_SIZE square; the tile kernel runs one work-group per tile. */
+#define DC_TILE_SIZE 16
+
+#define DC_FILTER_NEAREST 0
+#define DC_FILTER_LINEAR 1
+
+/* Pixels with a planar view depth below this are never decaled (the binning clips decal
+ * volumes at this distance in front of the camera). */
+#define DC_MIN_VIEW_DEPTH 1e-6f
+/* Depths at or beyond this are background, whatever the convention (Blender writes 1e10). */
+#define DC_BACKGROUND_DEPTH 1e10f
+
+/* One frame: camera and layout. Matrices are row-major, acting on column vectors. */
+typedef struct {
+    DC_FLOAT inv_projection[16]; /* clip -> camera space */
+    DC_FLOAT projection[16];     /* camera space -> clip */
+    DC_FLOAT world_to_camera[16];
+    DC_INT width, height;               /* data window */
+    DC_INT origin_x, origin_y;          /* data window min - display window min */
+    DC_INT display_width, display_height;
+    DC_INT depth_convention;
+    DC_INT reversed_z;
+    DC_FLOAT far_plane; /* planar depths beyond it are background; 0 = no limit */
+    DC_INT orthographic;
+    DC_INT tiles_x, tiles_y;
+    DC_INT decal_count;
+    DC_INT has_depth; /* 0: position convention without a depth pass */
+    DC_INT pad0, pad1;
+} DcFrame;
+
+/* One decal, prepared on the host in double precision. */
+typedef struct {
+    DC_FLOAT camera_to_local[12]; /* rows 0..2 of inverse(M) * camera_to_world */
+    DC_FLOAT local_to_camera[12]; /* rows 0..2 of world_to_camera * M */
+    DC_INT kind;
+    DC_INT filter;
+    DC_INT texture; /* index into the texture table, -1 = none */
+    DC_FLOAT opacity;
+} DcDecal;
+
+/* Where a texture's texels (float4, premultiplied linear RGBA, top row first) start. */
+typedef struct {
+    DC_INT offset;
+    DC_INT width, height;
+    DC_INT pad;
+} DcTexture;
+
+/* A decal's conservative screen footprint: inclusive tile range and planar depth range. */
+typedef struct {
+    DC_INT tile_x0, tile_y0, tile_x1, tile_y1; /* empty when x0 > x1 */
+    DC_FLOAT depth_min, depth_max;
+    DC_INT pad0, pad1;
+} DcDecalBounds;
+
+#ifndef __OPENCL_VERSION__
+}  // namespace decalcomp::cl_types
+#endif
+
+#endif

@@ -1,0 +1,128 @@
+#include "decalcomp/device.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+
+#include "decalcomp/error.hpp"
+
+namespace decalcomp {
+
+namespace {
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+    return s;
+}
+
+std::string typeName(cl_device_type type) {
+    if (type & CL_DEVICE_TYPE_GPU) return "gpu";
+    if (type & CL_DEVICE_TYPE_CPU) return "cpu";
+    if (type & CL_DEVICE_TYPE_ACCELERATOR) return "accelerator";
+    return "other";
+}
+
+std::string describe(const std::vector<DeviceInfo>& devices) {
+    std::string list;
+    for (const auto& d : devices) list += fmt::format("{}{}: {} ({}, {})", list.empty() ? "" : "; ", d.index, d.name, d.type, d.platform);
+    return list.empty() ? "none" : list;
+}
+
+}  // namespace
+
+std::vector<DeviceInfo> listDevices() {
+    std::vector<DeviceInfo> devices;
+    std::vector<cl::Platform> platforms;
+    try {
+        cl::Platform::get(&platforms);
+    } catch (const cl::Error&) {
+        return devices;  // no ICD, or the loader found no platform
+    }
+    for (auto& platform : platforms) {
+        std::vector<cl::Device> platform_devices;
+        try {
+            platform.getDevices(CL_DEVICE_TYPE_ALL, &platform_devices);
+        } catch (const cl::Error&) {
+            continue;
+        }
+        for (auto& device : platform_devices) {
+            DeviceInfo info;
+            info.index = int(devices.size());
+            info.name = device.getInfo<CL_DEVICE_NAME>();
+            info.vendor = device.getInfo<CL_DEVICE_VENDOR>();
+            info.version = device.getInfo<CL_DEVICE_VERSION>();
+            info.type = typeName(device.getInfo<CL_DEVICE_TYPE>());
+            info.platform = platform.getInfo<CL_PLATFORM_NAME>();
+            info.device = device;
+            info.platform_handle = platform;
+            devices.push_back(std::move(info));
+        }
+    }
+    return devices;
+}
+
+DeviceInfo selectDevice(const std::string& selector) {
+    const auto devices = listDevices();
+    if (devices.empty())
+        throw deviceError("no OpenCL device found (install pocl-opencl-icd for the CPU, or a GPU driver)");
+    auto first_of_type = [&](const std::string& type) -> const DeviceInfo* {
+        for (const auto& d : devices)
+            if (d.type == type) return &d;
+        return nullptr;
+    };
+    if (selector.empty()) {
+        if (auto* gpu = first_of_type("gpu")) return *gpu;
+        if (auto* cpu = first_of_type("cpu")) return *cpu;
+        return devices.front();
+    }
+    if (std::all_of(selector.begin(), selector.end(), [](unsigned char c) { return std::isdigit(c); })) {
+        const std::size_t index = std::stoul(selector);
+        if (index < devices.size()) return devices[index];
+        throw deviceError(fmt::format("--device {}: no device with that index (devices: {})", selector, describe(devices)));
+    }
+    const std::string wanted = lower(selector);
+    if (wanted == "gpu" || wanted == "cpu" || wanted == "accelerator") {
+        if (auto* d = first_of_type(wanted)) return *d;
+        throw deviceError(fmt::format("--device {}: no {} device (devices: {})", selector, wanted, describe(devices)));
+    }
+    for (const auto& d : devices)
+        if (lower(d.name).find(wanted) != std::string::npos || lower(d.vendor).find(wanted) != std::string::npos ||
+            lower(d.platform).find(wanted) != std::string::npos)
+            return d;
+    throw deviceError(fmt::format("--device {}: no device matches (devices: {})", selector, describe(devices)));
+}
+
+ComputeDevice::ComputeDevice(const std::string& selector) : info_(selectDevice(selector)) {
+    try {
+        context_ = cl::Context(info_.device);
+        queue_ = cl::CommandQueue(context_, info_.device, CL_QUEUE_PROFILING_ENABLE);
+    } catch (const cl::Error& e) {
+        throw deviceError(fmt::format("{}: {} failed: {}", info_.name, e.what(), clErrorName(e.err())));
+    }
+}
+
+cl::Program& ComputeDevice::program() {
+    if (built_) return program_;
+    const std::string options = buildOptions();
+    try {
+        program_ = cl::Program(context_, programSource());
+        program_.build({info_.device}, options.c_str());
+    } catch (const cl::BuildError& e) {
+        std::string log;
+        for (const auto& [device, text] : e.getBuildLog()) log += text;
+        throw deviceError(fmt::format("{}: kernel build failed with options '{}':\n{}", info_.name, options, log));
+    } catch (const cl::Error& e) {
+        std::string log;
+        try {
+            log = program_.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device);
+        } catch (const cl::Error&) {
+        }
+        throw deviceError(fmt::format("{}: kernel build failed ({}) with options '{}':\n{}", info_.name,
+                                      clErrorName(e.err()), options, log));
+    }
+    built_ = true;
+    return program_;
+}
+
+}  // namespace decalcomp

@@ -1,0 +1,236 @@
+#include "decalcomp/compositor.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include "compositor/kernel_params.hpp"
+#include "decalcomp/error.hpp"
+
+namespace decalcomp {
+
+namespace {
+
+constexpr int kBinGroupSize = 64;  // work-items per group in the binning kernels
+
+std::size_t roundUp(std::size_t n, std::size_t multiple) { return (n + multiple - 1) / multiple * multiple; }
+
+double eventMs(const cl::Event& e) {
+    const auto start = e.getProfilingInfo<CL_PROFILING_COMMAND_START>();
+    const auto end = e.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+    return double(end - start) * 1e-6;
+}
+
+// A buffer of at least one element: OpenCL refuses zero-sized buffers.
+template <typename T>
+cl::Buffer makeBuffer(cl::Context& context, cl_mem_flags flags, const std::vector<T>& data) {
+    if (data.empty()) return cl::Buffer(context, flags, sizeof(T));
+    return cl::Buffer(context, flags | CL_MEM_COPY_HOST_PTR, data.size() * sizeof(T), const_cast<T*>(data.data()));
+}
+
+// Pads a plane to the 1 or 4 channels an OpenCL image can hold.
+std::vector<float> imagePixels(const Plane& plane, std::size_t pixels, int channels) {
+    std::vector<float> out(pixels * channels, 0.0f);
+    const int copy = std::min(channels, plane.components);
+    for (std::size_t i = 0; i < pixels; ++i)
+        for (int c = 0; c < copy; ++c) out[i * channels + c] = plane.at(i, c);
+    return out;
+}
+
+cl::Image2D makeImage(cl::Context& context, int width, int height, int channels, const std::vector<float>& pixels) {
+    const cl::ImageFormat format(channels == 1 ? CL_R : CL_RGBA, CL_FLOAT);
+    return cl::Image2D(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, format, std::size_t(width),
+                       std::size_t(height), 0, const_cast<float*>(pixels.data()));
+}
+
+cl::Image2D placeholderImage(cl::Context& context, int channels) {
+    return makeImage(context, 1, 1, channels, std::vector<float>(std::size_t(channels), 0.0f));
+}
+
+}  // namespace
+
+struct Compositor::State {
+    cl::Kernel tile_bounds, decal_bounds, bin_count, bin_fill, shade;
+    cl::Buffer texture_table, texels;
+    std::size_t decal_count = 0;
+    DecalScene scene;  // decals only; textures live on the device
+    // last frame's binning, kept for lastBinning()
+    cl::Buffer tile_depth, tile_offsets, tile_decals;
+    int tiles_x = 0, tiles_y = 0;
+    std::int64_t bin_entries = 0;
+    bool has_binning = false;
+};
+
+Compositor::Compositor(ComputeDevice& device) : device_(device), state_(std::make_unique<State>()) {
+    cl::Program& program = device_.program();
+    try {
+        state_->tile_bounds = cl::Kernel(program, "dc_tile_bounds");
+        state_->decal_bounds = cl::Kernel(program, "dc_decal_bounds");
+        state_->bin_count = cl::Kernel(program, "dc_bin_count");
+        state_->bin_fill = cl::Kernel(program, "dc_bin_fill");
+        state_->shade = cl::Kernel(program, "dc_shade");
+    } catch (const cl::Error& e) {
+        throw deviceError(fmt::format("{}: {}: {}", device_.info().name, e.what(), clErrorName(e.err())));
+    }
+    setScene(DecalScene{});
+}
+
+Compositor::~Compositor() = default;
+
+void Compositor::setScene(const DecalScene& scene) {
+    const PackedTextures packed = packTextures(scene.textures);
+    for (const Decal& d : scene.decals)
+        if (d.albedo_texture >= int(scene.textures.size()))
+            throw inputError(fmt::format("decal '{}': texture index {} out of range", d.name, d.albedo_texture));
+    try {
+        state_->texture_table = makeBuffer(device_.context(), CL_MEM_READ_ONLY, packed.table);
+        state_->texels = makeBuffer(device_.context(), CL_MEM_READ_ONLY, packed.texels);
+    } catch (const cl::Error& e) {
+        throw deviceError(fmt::format("{}: uploading decal textures: {}", device_.info().name, clErrorName(e.err())));
+    }
+    state_->scene.decals = scene.decals;
+    state_->scene.textures.clear();
+}
+
+CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const CompositeOptions& options) {
+    if (!frame.has(Attribute::Albedo)) throw inputError("G-buffer has no albedo pass to decal");
+    const bool uses_position = frame.depth_convention == DepthConvention::Position;
+    if (uses_position && !frame.has(Attribute::Position))
+        throw inputError("depth convention 'position' needs a position pass");
+    if (!uses_position && !frame.has(Attribute::Depth)) throw inputError("G-buffer has no depth pass");
+    if (frame.width <= 0 || frame.height <= 0 || frame.display_width <= 0 || frame.display_height <= 0)
+        throw inputError("G-buffer has an empty data or display window");
+
+    State& s = *state_;
+    cl::Context& context = device_.context();
+    cl::CommandQueue& queue = device_.queue();
+    const auto decals = makeDecalParams(s.scene, camera);
+    const cl_types::DcFrame params = makeFrameParams(frame, camera, int(decals.size()));
+    const std::size_t pixels = frame.pixelCount();
+    const int tiles = params.tiles_x * params.tiles_y;
+
+    CompositeStats stats;
+    stats.decals = int(decals.size());
+    stats.tiles = tiles;
+    try {
+        cl::Buffer frame_buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(params),
+                                const_cast<cl_types::DcFrame*>(&params));
+        cl::Image2D depth = frame.has(Attribute::Depth)
+                                ? makeImage(context, frame.width, frame.height, 1,
+                                            imagePixels(frame.planes.at(Attribute::Depth), pixels, 1))
+                                : placeholderImage(context, 1);
+        cl::Image2D position = uses_position ? makeImage(context, frame.width, frame.height, 4,
+                                                         imagePixels(frame.planes.at(Attribute::Position), pixels, 4))
+                                             : placeholderImage(context, 4);
+        Plane& albedo = frame.planes.at(Attribute::Albedo);
+        cl::Image2D albedo_in = makeImage(context, frame.width, frame.height, 4, imagePixels(albedo, pixels, 4));
+        cl::Buffer albedo_out(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
+        cl::Buffer decal_buffer = makeBuffer(context, CL_MEM_READ_ONLY, decals);
+
+        s.tile_depth = cl::Buffer(context, CL_MEM_READ_WRITE, std::size_t(tiles) * sizeof(cl_float2));
+        s.tile_offsets = cl::Buffer(context, CL_MEM_READ_WRITE, std::size_t(tiles + 1) * sizeof(cl_int));
+        std::vector<int> offsets(std::size_t(tiles) + 1, 0);
+
+        if (options.binned && !decals.empty()) {
+            cl::Event e_tiles, e_bounds, e_count, e_fill;
+            s.tile_bounds.setArg(0, frame_buffer);
+            s.tile_bounds.setArg(1, depth);
+            s.tile_bounds.setArg(2, position);
+            s.tile_bounds.setArg(3, s.tile_depth);
+            queue.enqueueNDRangeKernel(s.tile_bounds, cl::NullRange,
+                                       cl::NDRange(std::size_t(params.tiles_x) * DC_TILE_SIZE,
+                                                   std::size_t(params.tiles_y) * DC_TILE_SIZE),
+                                       cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE), nullptr, &e_tiles);
+
+            cl::Buffer bounds(context, CL_MEM_READ_WRITE, decals.size() * sizeof(cl_types::DcDecalBounds));
+            s.decal_bounds.setArg(0, frame_buffer);
+            s.decal_bounds.setArg(1, decal_buffer);
+            s.decal_bounds.setArg(2, bounds);
+            queue.enqueueNDRangeKernel(s.decal_bounds, cl::NullRange, cl::NDRange(roundUp(decals.size(), kBinGroupSize)),
+                                       cl::NDRange(kBinGroupSize), nullptr, &e_bounds);
+
+            cl::Buffer counts(context, CL_MEM_READ_WRITE, std::size_t(tiles) * sizeof(cl_int));
+            const cl::NDRange tile_range(roundUp(std::size_t(tiles), kBinGroupSize));
+            s.bin_count.setArg(0, frame_buffer);
+            s.bin_count.setArg(1, bounds);
+            s.bin_count.setArg(2, s.tile_depth);
+            s.bin_count.setArg(3, counts);
+            queue.enqueueNDRangeKernel(s.bin_count, cl::NullRange, tile_range, cl::NDRange(kBinGroupSize), nullptr, &e_count);
+
+            // Exclusive prefix sum on the host: the total sizes the list buffer, so no cap exists.
+            std::vector<int> tile_counts(std::size_t(tiles), 0);
+            queue.enqueueReadBuffer(counts, CL_TRUE, 0, tile_counts.size() * sizeof(int), tile_counts.data());
+            std::int64_t total = 0;
+            for (int t = 0; t < tiles; ++t) {
+                offsets[std::size_t(t)] = int(total);
+                total += tile_counts[std::size_t(t)];
+                if (total > INT32_MAX) throw deviceError("binning: more than 2^31 tile-decal pairs");
+            }
+            offsets[std::size_t(tiles)] = int(total);
+            s.bin_entries = total;
+            queue.enqueueWriteBuffer(s.tile_offsets, CL_FALSE, 0, offsets.size() * sizeof(int), offsets.data());
+            s.tile_decals = cl::Buffer(context, CL_MEM_READ_WRITE, std::size_t(std::max<std::int64_t>(total, 1)) * sizeof(cl_int));
+            s.bin_fill.setArg(0, frame_buffer);
+            s.bin_fill.setArg(1, bounds);
+            s.bin_fill.setArg(2, s.tile_depth);
+            s.bin_fill.setArg(3, s.tile_offsets);
+            s.bin_fill.setArg(4, s.tile_decals);
+            queue.enqueueNDRangeKernel(s.bin_fill, cl::NullRange, tile_range, cl::NDRange(kBinGroupSize), nullptr, &e_fill);
+            queue.finish();
+            stats.tile_bounds_ms = eventMs(e_tiles);
+            stats.binning_ms = eventMs(e_bounds) + eventMs(e_count) + eventMs(e_fill);
+            stats.bin_entries = total;
+            s.tiles_x = params.tiles_x;
+            s.tiles_y = params.tiles_y;
+            s.has_binning = true;
+        } else {
+            s.tile_decals = cl::Buffer(context, CL_MEM_READ_WRITE, sizeof(cl_int));
+            queue.enqueueWriteBuffer(s.tile_offsets, CL_FALSE, 0, offsets.size() * sizeof(int), offsets.data());
+            s.has_binning = false;
+        }
+
+        cl::Event e_shade;
+        s.shade.setArg(0, frame_buffer);
+        s.shade.setArg(1, depth);
+        s.shade.setArg(2, position);
+        s.shade.setArg(3, albedo_in);
+        s.shade.setArg(4, albedo_out);
+        s.shade.setArg(5, decal_buffer);
+        s.shade.setArg(6, s.texture_table);
+        s.shade.setArg(7, s.texels);
+        s.shade.setArg(8, s.tile_offsets);
+        s.shade.setArg(9, s.tile_decals);
+        s.shade.setArg(10, cl_int(options.binned && !decals.empty() ? 1 : 0));
+        queue.enqueueNDRangeKernel(s.shade, cl::NullRange, cl::NDRange(std::size_t(frame.width), std::size_t(frame.height)),
+                                   cl::NullRange, nullptr, &e_shade);
+        std::vector<float> result(pixels * 4);
+        queue.enqueueReadBuffer(albedo_out, CL_TRUE, 0, result.size() * sizeof(float), result.data());
+        stats.shading_ms = eventMs(e_shade);
+        for (std::size_t i = 0; i < pixels; ++i)
+            for (int c = 0; c < albedo.components && c < 4; ++c) albedo.at(i, c) = result[i * 4 + c];
+    } catch (const cl::Error& e) {
+        throw deviceError(fmt::format("{}: {} failed: {}", device_.info().name, e.what(), clErrorName(e.err())));
+    }
+    return stats;
+}
+
+BinningResult Compositor::lastBinning() {
+    State& s = *state_;
+    BinningResult r;
+    if (!s.has_binning) return r;
+    r.tiles_x = s.tiles_x;
+    r.tiles_y = s.tiles_y;
+    const std::size_t tiles = std::size_t(s.tiles_x) * std::size_t(s.tiles_y);
+    r.tile_depth.resize(tiles * 2);
+    r.tile_offsets.resize(tiles + 1);
+    r.tile_decals.resize(std::size_t(s.bin_entries));
+    cl::CommandQueue& queue = device_.queue();
+    queue.enqueueReadBuffer(s.tile_depth, CL_TRUE, 0, r.tile_depth.size() * sizeof(float), r.tile_depth.data());
+    queue.enqueueReadBuffer(s.tile_offsets, CL_TRUE, 0, r.tile_offsets.size() * sizeof(int), r.tile_offsets.data());
+    if (!r.tile_decals.empty())
+        queue.enqueueReadBuffer(s.tile_decals, CL_TRUE, 0, r.tile_decals.size() * sizeof(int), r.tile_decals.data());
+    return r;
+}
+
+}  // namespace decalcomp

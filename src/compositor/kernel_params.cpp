@@ -1,0 +1,85 @@
+#include "compositor/kernel_params.hpp"
+
+#include <cmath>
+
+#include "decalcomp/error.hpp"
+
+namespace decalcomp {
+
+namespace {
+
+void storeRowMajor(const glm::dmat4& m, float* out, int rows) {
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < 4; ++c) out[r * 4 + c] = float(m[c][r]);
+}
+
+int conventionCode(DepthConvention c) {
+    switch (c) {
+        case DepthConvention::Planar: return DC_DEPTH_PLANAR;
+        case DepthConvention::Radial: return DC_DEPTH_RADIAL;
+        case DepthConvention::Ndc: return DC_DEPTH_NDC;
+        case DepthConvention::Position: return DC_DEPTH_POSITION;
+    }
+    return DC_DEPTH_PLANAR;
+}
+
+}  // namespace
+
+int tileCount(int pixels) { return (pixels + DC_TILE_SIZE - 1) / DC_TILE_SIZE; }
+
+cl_types::DcFrame makeFrameParams(const GBuffer& frame, const Camera& camera, int decal_count) {
+    cl_types::DcFrame f{};
+    storeRowMajor(glm::inverse(camera.projection), f.inv_projection, 4);
+    storeRowMajor(camera.projection, f.projection, 4);
+    storeRowMajor(camera.world_to_camera, f.world_to_camera, 4);
+    f.width = frame.width;
+    f.height = frame.height;
+    f.origin_x = frame.origin_x;
+    f.origin_y = frame.origin_y;
+    f.display_width = frame.display_width;
+    f.display_height = frame.display_height;
+    f.depth_convention = conventionCode(frame.depth_convention);
+    f.reversed_z = frame.reversed_z ? 1 : 0;
+    const double far = camera.farPlane();
+    f.far_plane = (std::isfinite(far) && far > 0.0) ? float(far) : 0.0f;
+    f.orthographic = camera.isOrthographic() ? 1 : 0;
+    f.tiles_x = tileCount(frame.width);
+    f.tiles_y = tileCount(frame.height);
+    f.decal_count = decal_count;
+    f.has_depth = frame.has(Attribute::Depth) ? 1 : 0;
+    return f;
+}
+
+std::vector<cl_types::DcDecal> makeDecalParams(const DecalScene& scene, const Camera& camera) {
+    const glm::dmat4 camera_to_world = glm::inverse(camera.world_to_camera);
+    std::vector<cl_types::DcDecal> out;
+    out.reserve(scene.decals.size());
+    for (const Decal& decal : scene.decals) {
+        cl_types::DcDecal d{};
+        storeRowMajor(glm::inverse(decal.world_matrix) * camera_to_world, d.camera_to_local, 3);
+        storeRowMajor(camera.world_to_camera * decal.world_matrix, d.local_to_camera, 3);
+        d.kind = DC_KIND_BOX;
+        d.filter = decal.filter == TextureFilter::Nearest ? DC_FILTER_NEAREST : DC_FILTER_LINEAR;
+        d.texture = decal.albedo_texture;
+        d.opacity = decal.opacity;
+        out.push_back(d);
+    }
+    return out;
+}
+
+PackedTextures packTextures(const std::vector<Texture2D>& textures) {
+    PackedTextures packed;
+    std::size_t total = 0;
+    for (const auto& t : textures) total += t.texels.size();
+    if (total > std::size_t(INT32_MAX)) throw inputError("decal textures: more than 2^31 texels in total");
+    packed.texels.reserve(total * 4);
+    for (const auto& t : textures) {
+        if (t.width <= 0 || t.height <= 0 || t.texels.size() != std::size_t(t.width) * std::size_t(t.height))
+            throw inputError(t.source + ": texture has no texels");
+        packed.table.push_back({int(packed.texels.size() / 4), t.width, t.height, 0});
+        for (const auto& texel : t.texels) packed.texels.insert(packed.texels.end(), {texel.r, texel.g, texel.b, texel.a});
+    }
+    return packed;
+}
+
+}  // namespace decalcomp

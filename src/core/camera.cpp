@@ -1,0 +1,148 @@
+#include "decalcomp/camera.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "decalcomp/error.hpp"
+
+namespace decalcomp {
+
+bool Camera::isOrthographic() const {
+    // GLM is column-major: projection[col][row]. Last row = (0,0,0,1) means no perspective divide.
+    return projection[0][3] == 0.0 && projection[1][3] == 0.0 && projection[2][3] == 0.0 &&
+           projection[3][3] != 0.0;
+}
+
+double Camera::nearPlane() const {
+    const double a = projection[2][2], b = projection[3][2];
+    if (isOrthographic()) return (b + 1.0) / a;  // z_ndc = a z + b; z = -n at ndc -1
+    return b / (a - 1.0);
+}
+
+double Camera::farPlane() const {
+    const double a = projection[2][2], b = projection[3][2];
+    if (isOrthographic()) return (b - 1.0) / a;
+    return b / (a + 1.0);
+}
+
+glm::dmat4 matrixFromRows(const double rows[4][4]) {
+    glm::dmat4 m;
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) m[c][r] = rows[r][c];
+    return m;
+}
+
+glm::dmat4 perspectiveProjection(double fov_y_rad, double aspect, double near, double far, double shift_x,
+                                 double shift_y) {
+    const double f = 1.0 / std::tan(fov_y_rad / 2.0);
+    glm::dmat4 p(0.0);
+    p[0][0] = f / aspect;
+    p[1][1] = f;
+    p[2][0] = 2.0 * shift_x;  // lens shift in NDC half-units, like Blender's shift x2
+    p[2][1] = 2.0 * shift_y;
+    p[2][2] = -(far + near) / (far - near);
+    p[2][3] = -1.0;
+    p[3][2] = -2.0 * far * near / (far - near);
+    return p;
+}
+
+glm::dmat4 orthographicProjection(double half_height, double aspect, double near, double far) {
+    glm::dmat4 p(1.0);
+    p[0][0] = 1.0 / (half_height * aspect);
+    p[1][1] = 1.0 / half_height;
+    p[2][2] = -2.0 / (far - near);
+    p[3][2] = -(far + near) / (far - near);
+    return p;
+}
+
+glm::dmat4 lookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up) {
+    const glm::dvec3 f = glm::normalize(target - eye);
+    const glm::dvec3 s = glm::normalize(glm::cross(f, up));
+    const glm::dvec3 u = glm::cross(s, f);
+    glm::dmat4 m(1.0);
+    for (int i = 0; i < 3; ++i) {
+        m[i][0] = s[i];
+        m[i][1] = u[i];
+        m[i][2] = -f[i];
+    }
+    m[3][0] = -glm::dot(s, eye);
+    m[3][1] = -glm::dot(u, eye);
+    m[3][2] = glm::dot(f, eye);
+    return m;
+}
+
+namespace {
+
+glm::dmat4 readMatrix(const nlohmann::json& doc, const std::string& field, const std::string& path) {
+    if (!doc.contains(field)) throw inputError(fmt::format("{}: {}: missing", path, field));
+    const auto& rows = doc[field];
+    if (!rows.is_array() || rows.size() != 4)
+        throw inputError(fmt::format("{}: {}: expected 4 rows of 4 numbers", path, field));
+    double values[4][4];
+    for (int r = 0; r < 4; ++r) {
+        if (!rows[r].is_array() || rows[r].size() != 4)
+            throw inputError(fmt::format("{}: {}[{}]: expected 4 numbers", path, field, r));
+        for (int c = 0; c < 4; ++c) {
+            if (!rows[r][c].is_number())
+                throw inputError(fmt::format("{}: {}[{}][{}]: expected a number", path, field, r, c));
+            values[r][c] = rows[r][c].get<double>();
+            if (!std::isfinite(values[r][c]))
+                throw inputError(fmt::format("{}: {}[{}][{}]: not finite", path, field, r, c));
+        }
+    }
+    return matrixFromRows(values);
+}
+
+void requireInvertible(const glm::dmat4& m, const std::string& field, const std::string& path) {
+    const double det = glm::determinant(m);
+    const glm::dmat4 inv = glm::inverse(m);
+    bool finite = std::isfinite(det);
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) finite = finite && std::isfinite(inv[c][r]);
+    if (!finite || std::abs(det) < 1e-12)
+        throw inputError(fmt::format("{}: {}: matrix is not invertible", path, field));
+}
+
+nlohmann::json rowsOf(const glm::dmat4& m) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (int r = 0; r < 4; ++r) rows.push_back({m[0][r], m[1][r], m[2][r], m[3][r]});
+    return rows;
+}
+
+}  // namespace
+
+Camera loadCameraJson(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw inputError(fmt::format("{}: cannot open camera file", path));
+    nlohmann::json doc;
+    try {
+        doc = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw inputError(fmt::format("{}: not valid JSON (byte {})", path, e.byte));
+    }
+    if (!doc.is_object()) throw inputError(fmt::format("{}: expected a JSON object", path));
+    Camera camera;
+    camera.world_to_camera = readMatrix(doc, "world_to_camera", path);
+    camera.projection = readMatrix(doc, "projection", path);
+    requireInvertible(camera.world_to_camera, "world_to_camera", path);
+    requireInvertible(camera.projection, "projection", path);
+    camera.source = path;
+    return camera;
+}
+
+void saveCameraJson(const Camera& camera, int width, int height, const std::string& path) {
+    nlohmann::json doc;
+    doc["resolution"] = {width, height};
+    doc["matrix_layout"] = "row-major M[row][col], column vectors";
+    doc["world_to_camera"] = rowsOf(camera.world_to_camera);
+    doc["projection"] = rowsOf(camera.projection);
+    std::ofstream out(path);
+    if (!out) throw outputError(fmt::format("{}: cannot write camera file", path));
+    out << doc.dump(2) << "\n";
+    if (!out) throw outputError(fmt::format("{}: write failed", path));
+}
+
+}  // namespace decalcomp

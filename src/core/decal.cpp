@@ -1,0 +1,31 @@
+#include "decalcomp/decal.hpp"
+
+#include <cmath>
+
+namespace decalcomp {
+
+const char* decalKindName(DecalKind k) {
+    switch (k) {
+        case DecalKind::Box: return "box";
+    }
+    return "?";
+}
+
+const char* textureFilterName(TextureFilter f) {
+    switch (f) {
+        case TextureFilter::Nearest: return "nearest";
+        case TextureFilter::Linear: return "linear";
+    }
+    return "?";
+}
+
+bool isInvertibleDecalMatrix(const glm::dmat4& m) {
+    if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0) return false;  // affine only
+    const glm::dmat3 linear(m);
+    // Relative determinant: |det| against the product of column lengths (1 for orthogonal axes).
+    const double scale = glm::length(linear[0]) * glm::length(linear[1]) * glm::length(linear[2]);
+    const double det = glm::determinant(linear);
+    return std::isfinite(det) && scale > 0.0 && std::abs(det) > 1e-9 * scale && std::abs(det) > 1e-30;
+}
+
+}  // namespace decalcomp

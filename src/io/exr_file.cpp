@@ -1,0 +1,174 @@
+// readExr / writeExrAtomic: whole EXR files in memory, raw samples, headers untouched.
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfInputPart.h>
+#include <OpenEXR/ImfMultiPartInputFile.h>
+#include <OpenEXR/ImfMultiPartOutputFile.h>
+#include <OpenEXR/ImfOutputPart.h>
+#include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfTiledOutputPart.h>
+#include <OpenEXR/ImfVersion.h>
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "decalcomp/error.hpp"
+#include "decalcomp/exr_io.hpp"
+#include "io/exr_layout.hpp"
+
+namespace decalcomp {
+
+namespace {
+
+std::string partLabel(const Imf::Header& header, int index) {
+    return header.hasName() ? fmt::format("part {} ({})", index, header.name())
+                            : fmt::format("part {}", index);
+}
+
+// Checks the magic number first so a text file gets a plain answer, not a library message.
+void requireExrMagic(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw inputError(fmt::format("{}: cannot open ({})", path, std::strerror(errno)));
+    char magic[4] = {};
+    if (!in.read(magic, sizeof magic) || !Imf::isImfMagic(magic))
+        throw inputError(fmt::format("{}: not an OpenEXR file", path));
+}
+
+// Deep and multi-resolution parts cannot be kept as one flat plane per channel.
+void requireFlatSingleLevel(const Imf::Header& header, int index, const std::string& path) {
+    if (header.hasType() && Imf::isDeepData(header.type()))
+        throw inputError(fmt::format("{}: {}: deep data is not supported", path, partLabel(header, index)));
+    if (header.hasTileDescription() && header.tileDescription().mode != Imf::ONE_LEVEL)
+        throw inputError(fmt::format("{}: {}: mipmapped or ripmapped tiles are not supported",
+                                     path, partLabel(header, index)));
+}
+
+ExrPart readPart(Imf::MultiPartInputFile& file, int index, const std::string& path) {
+    const Imf::Header& header = file.header(index);
+    requireFlatSingleLevel(header, index, path);
+    const bool multi_part = Imf::isMultiPart(file.version());
+    const std::string part_name = header.hasName() ? header.name() : std::string();
+    const Imath::Box2i dw = header.dataWindow();
+
+    ExrPart part;
+    part.header = header;
+    part.width = dw.max.x - dw.min.x + 1;
+    part.height = dw.max.y - dw.min.y + 1;
+    for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+        ExrChannel channel;
+        channel.name = it.name();
+        channel.qualified = io::qualifiedChannelName(part_name, multi_part, channel.name);
+        channel.type = io::sampleType(it.channel().type);
+        channel.x_sampling = it.channel().xSampling;
+        channel.y_sampling = it.channel().ySampling;
+        channel.bytes.resize(io::channelByteCount(dw, channel));
+        part.channels.push_back(std::move(channel));
+    }
+
+    Imf::FrameBuffer frame_buffer;
+    for (const ExrChannel& channel : part.channels)
+        frame_buffer.insert(channel.name, io::channelSlice(dw, channel));
+    // InputPart reads tiled parts too, presenting level 0 as scanlines.
+    Imf::InputPart input(file, index);
+    input.setFrameBuffer(frame_buffer);
+    input.readPixels(dw.min.y, dw.max.y);
+    return part;
+}
+
+// The bytes the writer hands to OpenEXR must match the header they are written under.
+void validatePart(const ExrPart& part, int index, const std::string& path) {
+    const Imath::Box2i dw = part.header.dataWindow();
+    const Imf::ChannelList& list = part.header.channels();
+    for (auto it = list.begin(); it != list.end(); ++it) {
+        const ExrChannel* found = nullptr;
+        for (const ExrChannel& channel : part.channels)
+            if (channel.name == it.name()) found = &channel;
+        if (!found)
+            throw outputError(fmt::format("{}: {}: channel {}: no samples to write", path,
+                                          partLabel(part.header, index), it.name()));
+        if (io::pixelType(found->type) != it.channel().type || found->x_sampling != it.channel().xSampling ||
+            found->y_sampling != it.channel().ySampling)
+            throw outputError(fmt::format("{}: {}: channel {}: type or sampling differs from the header",
+                                          path, partLabel(part.header, index), it.name()));
+        if (found->bytes.size() != io::channelByteCount(dw, *found))
+            throw outputError(fmt::format("{}: {}: channel {}: {} bytes, expected {}", path,
+                                          partLabel(part.header, index), it.name(), found->bytes.size(),
+                                          io::channelByteCount(dw, *found)));
+    }
+}
+
+Imf::FrameBuffer frameBufferOf(const ExrPart& part) {
+    const Imath::Box2i dw = part.header.dataWindow();
+    Imf::FrameBuffer frame_buffer;
+    for (const ExrChannel& channel : part.channels)
+        if (part.header.channels().findChannel(channel.name))
+            frame_buffer.insert(channel.name, io::channelSlice(dw, channel));
+    return frame_buffer;
+}
+
+void writePart(Imf::MultiPartOutputFile& file, const ExrPart& part, int index) {
+    if (part.header.hasTileDescription()) {
+        Imf::TiledOutputPart out(file, index);
+        out.setFrameBuffer(frameBufferOf(part));
+        out.writeTiles(0, out.numXTiles(0) - 1, 0, out.numYTiles(0) - 1);
+    } else {
+        Imf::OutputPart out(file, index);
+        out.setFrameBuffer(frameBufferOf(part));
+        out.writePixels(part.height);
+    }
+}
+
+void writeParts(const ExrImage& image, const std::string& path) {
+    std::vector<Imf::Header> headers;
+    for (const ExrPart& part : image.parts) {
+        headers.push_back(part.header);
+        // Single-part files may omit "type"; MultiPartOutputFile insists on it, and it is harmless.
+        if (!headers.back().hasType())
+            headers.back().setType(part.header.hasTileDescription() ? Imf::TILEDIMAGE : Imf::SCANLINEIMAGE);
+    }
+    // Scoped so the file is closed (and complete) before the rename.
+    Imf::MultiPartOutputFile file(path.c_str(), headers.data(), int(headers.size()));
+    for (int i = 0; i < int(image.parts.size()); ++i) writePart(file, image.parts[i], i);
+}
+
+// ".NAME.tmp-PID" beside the target, so the final rename stays within one file system.
+std::filesystem::path temporaryPathFor(const std::filesystem::path& target) {
+    return target.parent_path() / fmt::format(".{}.tmp-{}", target.filename().string(), ::getpid());
+}
+
+}  // namespace
+
+ExrImage readExr(const std::string& path) {
+    requireExrMagic(path);
+    ExrImage image;
+    image.path = path;
+    try {
+        Imf::MultiPartInputFile file(path.c_str());
+        for (int i = 0; i < file.parts(); ++i) image.parts.push_back(readPart(file, i, path));
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw inputError(fmt::format("{}: cannot read: {}", path, io::oneLine(e.what())));
+    }
+    return image;
+}
+
+void writeExrAtomic(const ExrImage& image, const std::string& path) {
+    if (image.parts.empty()) throw outputError(fmt::format("{}: nothing to write (no parts)", path));
+    for (int i = 0; i < int(image.parts.size()); ++i) validatePart(image.parts[i], i, path);
+
+    const std::filesystem::path temporary = temporaryPathFor(path);
+    try {
+        writeParts(image, temporary.string());
+        std::filesystem::rename(temporary, path);
+    } catch (const std::exception& e) {
+        std::error_code ignored;
+        std::filesystem::remove(temporary, ignored);
+        throw outputError(fmt::format("{}: cannot write: {}", path, io::oneLine(e.what())));
+    }
+}
+
+}  // namespace decalcomp

@@ -1,0 +1,63 @@
+// Random decal scenes on top of a rendered frame, for tests and benchmarks.
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <random>
+
+#include "decalcomp/reference.hpp"
+#include "decalcomp/synth.hpp"
+
+namespace decalcomp::synth {
+
+Texture2D proceduralTexture(int kind, int size, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const glm::vec3 colour(u(rng), u(rng), u(rng));
+    Texture2D t;
+    t.source = "procedural";
+    t.width = t.height = size;
+    t.texels.resize(std::size_t(size) * size);
+    for (int j = 0; j < size; ++j)
+        for (int i = 0; i < size; ++i) {
+            const float x = (i + 0.5f) / size - 0.5f, y = (j + 0.5f) / size - 0.5f;
+            const float r = std::sqrt(x * x + y * y);
+            float alpha = 1.0f;
+            glm::vec3 c = colour;
+            switch (kind % 3) {
+                case 0: alpha = (r > 0.3f && r < 0.45f) ? 1.0f : 0.0f; break;         // ring
+                case 1: c = ((i * 4 / size + j * 4 / size) & 1) ? colour : glm::vec3(1.0f) - colour; break;  // checker
+                default: alpha = glm::clamp(1.0f - r / 0.5f, 0.0f, 1.0f); break;      // soft spot
+            }
+            t.texels[std::size_t(j) * size + i] = glm::vec4(c * alpha, alpha);
+        }
+    return t;
+}
+
+DecalScene scatterDecals(const GBuffer& frame, const Camera& camera, const ScatterOptions& options) {
+    std::mt19937 rng(options.seed);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    DecalScene scene;
+    for (int k = 0; k < options.texture_count; ++k)
+        scene.textures.push_back(proceduralTexture(k, options.texture_size, options.seed * 977u + k));
+    std::uniform_int_distribution<int> px(0, frame.width - 1), py(0, frame.height - 1);
+    for (int n = 0; n < options.count; ++n) {
+        std::optional<glm::dvec3> centre;
+        for (int attempt = 0; attempt < 32 && !centre; ++attempt)
+            centre = reference::pixelWorldPoint(frame, camera, px(rng), py(rng));
+        if (!centre) centre = glm::dvec3(0.0);
+        const glm::dvec3 axis = glm::normalize(glm::dvec3(u01(rng) - 0.5, u01(rng) - 0.5, u01(rng) - 0.5) + 1e-9);
+        const double size = options.min_size + (options.max_size - options.min_size) * u01(rng);
+        glm::dmat4 m = glm::translate(glm::dmat4(1.0), *centre);
+        m = glm::rotate(m, u01(rng) * 6.283185307179586, axis);
+        m = glm::scale(m, glm::dvec3(size, size * (0.5 + u01(rng)), size * (0.5 + u01(rng))));
+        Decal d;
+        d.name = "scatter" + std::to_string(n);
+        d.world_matrix = m;
+        d.albedo_texture = int(rng() % scene.textures.size());
+        d.opacity = float(0.5 + 0.5 * u01(rng));
+        d.filter = (n % 2) ? TextureFilter::Linear : TextureFilter::Nearest;
+        scene.decals.push_back(d);
+    }
+    return scene;
+}
+
+}  // namespace decalcomp::synth

@@ -1,0 +1,163 @@
+// Decodes decal textures to linear, premultiplied RGBA float (the layout Texture2D promises).
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <vector>
+
+#include "decalcomp/error.hpp"
+#include "decalcomp/textures.hpp"
+
+namespace decalcomp {
+namespace {
+
+// Largest texture accepted: keeps width*height*4 floats far from size_t overflow and from
+// allocations no GPU could hold anyway (2^28 texels = 4 GiB of float RGBA).
+constexpr std::int64_t kMaxTexels = std::int64_t(1) << 28;
+
+// OIIO messages may span lines; our errors are one line.
+std::string oneLine(std::string s) {
+    while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
+    for (char& c : s)
+        if (c == '\n' || c == '\r') c = ' ';
+    return s.empty() ? "unknown error" : s;
+}
+
+// Which file channels feed R, G, B and A. alpha = -1 means opaque.
+struct ChannelLayout {
+    std::array<int, 3> colour{0, 0, 0};
+    int alpha = -1;
+};
+
+ChannelLayout channelLayout(const OIIO::ImageSpec& spec) {
+    ChannelLayout layout;
+    const int n = spec.nchannels;
+    if (n == 1) return layout;  // grey, opaque
+    if (n == 2) {               // grey + alpha
+        layout.alpha = 1;
+        return layout;
+    }
+    // RGB(A...): trust the file's alpha channel, else the 4th channel, else opaque.
+    layout.alpha = (spec.alpha_channel >= 0 && spec.alpha_channel < n) ? spec.alpha_channel : (n >= 4 ? 3 : -1);
+    int next = 0;
+    for (int c = 0; c < n && next < 3; ++c)
+        if (c != layout.alpha) layout.colour[next++] = c;
+    return layout;
+}
+
+bool isIntegerFormat(const OIIO::TypeDesc& t) { return !t.is_floating_point(); }
+
+// Whether the stored colour still has to be multiplied by alpha.
+bool needsPremultiply(const OIIO::ImageSpec& spec, AlphaMode mode) {
+    switch (mode) {
+        case AlphaMode::Straight: return true;
+        case AlphaMode::Premultiplied: return false;
+        case AlphaMode::Auto: break;
+    }
+    // 8/16-bit formats (PNG, TGA...) carry straight alpha by convention; OpenEXR is premultiplied
+    // unless the file says otherwise (the Blender samples write decal:alpha = "straight").
+    if (isIntegerFormat(spec.format)) return true;
+    return spec.get_string_attribute("decal:alpha") == "straight";
+}
+
+// Per-value decoders: integer colour is sRGB-encoded, float colour is already linear.
+template <typename T>
+std::vector<float> srgbTable() {
+    const int count = int(std::numeric_limits<T>::max()) + 1;
+    std::vector<float> table(static_cast<size_t>(count));
+    for (int i = 0; i < count; ++i) table[size_t(i)] = srgbToLinear(float(i) / float(count - 1));
+    return table;
+}
+
+template <typename T>
+std::vector<T> readPixels(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
+                          const std::string& path) {
+    std::vector<T> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+    if (!in.read_image(0, 0, 0, spec.nchannels, type, pixels.data()))
+        throw inputError(fmt::format("cannot read '{}': {}", path, oneLine(in.geterror())));
+    return pixels;
+}
+
+// Fills texels from raw channel values; colour(v) and alpha(v) turn one stored value into linear.
+template <typename T, typename ColourFn, typename AlphaFn>
+void decodeTexels(const std::vector<T>& raw, int channels, const ChannelLayout& layout, bool premultiply,
+                  ColourFn colour, AlphaFn alpha, std::vector<glm::vec4>& texels) {
+    for (size_t i = 0; i < texels.size(); ++i) {
+        const T* px = raw.data() + i * size_t(channels);
+        const float a = layout.alpha >= 0 ? alpha(px[layout.alpha]) : 1.0f;
+        glm::vec4 t(colour(px[layout.colour[0]]), colour(px[layout.colour[1]]), colour(px[layout.colour[2]]), a);
+        if (premultiply) {
+            t.r *= a;
+            t.g *= a;
+            t.b *= a;
+        }
+        texels[i] = t;
+    }
+}
+
+// Reads stored integers natively so the sRGB decode is a table lookup of the exact curve.
+template <typename T>
+void decodeIntegerNative(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
+                         const ChannelLayout& layout, bool premultiply, Texture2D& tex) {
+    const std::vector<T> raw = readPixels<T>(in, spec, type, tex.source);
+    const std::vector<float> table = srgbTable<T>();
+    const float maxValue = float(std::numeric_limits<T>::max());
+    decodeTexels(
+        raw, spec.nchannels, layout, premultiply, [&](T v) { return table[v]; },
+        [&](T v) { return float(v) / maxValue; }, tex.texels);
+}
+
+void checkSpec(const OIIO::ImageSpec& spec, const std::string& path) {
+    if (spec.deep) throw inputError(fmt::format("'{}': deep images are not supported as textures", path));
+    if (spec.depth > 1) throw inputError(fmt::format("'{}': 3D images are not supported as 2D textures", path));
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+        throw inputError(fmt::format("'{}': empty image ({}x{}, {} channels)", path, spec.width, spec.height,
+                                     spec.nchannels));
+    if (std::int64_t(spec.width) * std::int64_t(spec.height) > kMaxTexels)
+        throw inputError(fmt::format("'{}': image too large for a texture ({}x{})", path, spec.width, spec.height));
+}
+
+}  // namespace
+
+Texture2D loadTexture2D(const std::string& path, AlphaMode alpha) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw inputError(fmt::format("cannot open '{}': no such file", path));
+
+    // Without this hint OIIO premultiplies 8-bit straight-alpha PNG/TGA on read.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto in = OIIO::ImageInput::open(path, &config);
+    if (!in) throw inputError(fmt::format("cannot open '{}': {}", path, oneLine(OIIO::geterror())));
+
+    const OIIO::ImageSpec spec = in->spec();
+    checkSpec(spec, path);
+    const ChannelLayout layout = channelLayout(spec);
+    const bool premultiply = needsPremultiply(spec, alpha);
+
+    Texture2D tex;
+    tex.source = path;
+    tex.width = spec.width;
+    tex.height = spec.height;
+    tex.texels.resize(size_t(spec.width) * size_t(spec.height));
+
+    if (spec.format == OIIO::TypeDesc::UINT8) {
+        decodeIntegerNative<std::uint8_t>(*in, spec, OIIO::TypeDesc::UINT8, layout, premultiply, tex);
+    } else if (spec.format == OIIO::TypeDesc::UINT16) {
+        decodeIntegerNative<std::uint16_t>(*in, spec, OIIO::TypeDesc::UINT16, layout, premultiply, tex);
+    } else {
+        // Other integer types arrive normalised to [0,1] and are still sRGB; float stays linear.
+        const bool srgb = isIntegerFormat(spec.format);
+        const std::vector<float> raw = readPixels<float>(*in, spec, OIIO::TypeDesc::FLOAT, path);
+        decodeTexels(
+            raw, spec.nchannels, layout, premultiply, [&](float v) { return srgb ? srgbToLinear(v) : v; },
+            [](float v) { return v; }, tex.texels);
+    }
+    in->close();
+    return tex;
+}
+
+}  // namespace decalcomp

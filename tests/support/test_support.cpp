@@ -1,0 +1,52 @@
+#include "support/test_support.hpp"
+
+#include <sys/wait.h>
+
+#include <array>
+#include <atomic>
+#include <cstdio>
+#include <random>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace decalcomp::test {
+
+std::string dataPath(const std::string& relative) { return std::string(DECALCOMP_DATA_DIR) + "/" + relative; }
+
+ScratchDir::ScratchDir() {
+    static std::atomic<int> counter{0};
+    std::random_device rd;
+    path_ = std::filesystem::temp_directory_path() /
+            ("decalcomp-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" +
+             std::to_string(rd() % 100000));
+    std::filesystem::create_directories(path_);
+}
+
+ScratchDir::~ScratchDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+}
+
+std::string shellQuote(const std::string& s) {
+    std::string out = "'";
+    for (char c : s) out += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+}
+
+CommandResult runCommand(const std::string& command_line) {
+    CommandResult result;
+    FILE* pipe = ::popen((command_line + " 2>&1").c_str(), "r");
+    if (!pipe) throw std::runtime_error("popen failed: " + command_line);
+    std::array<char, 4096> buffer{};
+    size_t n;
+    while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+    int status = ::pclose(pipe);
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return result;
+}
+
+CommandResult runCli(const std::string& arguments) {
+    return runCommand(shellQuote(DECALCOMP_CLI) + " " + arguments);
+}
+
+}  // namespace decalcomp::test

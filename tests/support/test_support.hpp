@@ -1,0 +1,34 @@
+#pragma once
+// Small helpers shared by the tests: scratch folders, running the CLI, data paths.
+#include <filesystem>
+#include <string>
+
+namespace decalcomp::test {
+
+std::string dataPath(const std::string& relative);  // path under the repository's data/
+
+// A fresh empty folder under the system temp dir, removed when the object dies.
+class ScratchDir {
+public:
+    ScratchDir();
+    ~ScratchDir();
+    ScratchDir(const ScratchDir&) = delete;
+    ScratchDir& operator=(const ScratchDir&) = delete;
+    std::filesystem::path path() const { return path_; }
+    std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+private:
+    std::filesystem::path path_;
+};
+
+struct CommandResult {
+    int exit_code = -1;
+    std::string output;  // stdout and stderr together
+};
+// Runs a shell command line, capturing stdout+stderr.
+CommandResult runCommand(const std::string& command_line);
+// Runs the decalcomp CLI with the given arguments (already shell-quoted where needed).
+CommandResult runCli(const std::string& arguments);
+std::string shellQuote(const std::string& s);
+
+}  // namespace decalcomp::test

@@ -1,0 +1,268 @@
+// Kernels on PoCL's CPU device against the scalar reference (src/reference), on random scenes.
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "decalcomp/compositor.hpp"
+#include "decalcomp/reference.hpp"
+#include "decalcomp/synth.hpp"
+#include "shared_types.h"
+
+namespace decalcomp {
+namespace {
+
+ComputeDevice& cpuDevice() {
+    static ComputeDevice device("cpu");
+    return device;
+}
+
+// A random camera looking into a random analytic scene, in one of the depth conventions.
+struct RandomFrame {
+    GBuffer gbuffer;
+    Camera camera;
+    synth::Scene scene;
+};
+
+RandomFrame makeRandomFrame(std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), u01(0.0, 1.0);
+    RandomFrame f;
+    f.scene = synth::randomScene(seed, 10.0);
+    const glm::dvec3 eye(u(rng) * 8, u(rng) * 8, u(rng) * 8);
+    const glm::dvec3 target(u(rng) * 2, u(rng) * 2, u(rng) * 2);
+    f.camera.world_to_camera = lookAt(eye, target, glm::dvec3(u(rng), u(rng), 1.0));
+    const int width = 61 + int(rng() % 60), height = 41 + int(rng() % 50);  // not tile multiples
+    const double aspect = double(width) / height;
+    const bool ortho = seed % 5 == 4;
+    f.camera.projection = ortho ? orthographicProjection(3.0 + 5 * u01(rng), aspect, -20.0, 60.0)
+                                : perspectiveProjection(glm::radians(20.0 + 90.0 * u01(rng)), aspect,
+                                                        0.05 + 0.3 * u01(rng), 80.0, 0.2 * u(rng), 0.2 * u(rng));
+    synth::RenderOptions options;
+    options.width = width;
+    options.height = height;
+    const DepthConvention conventions[] = {DepthConvention::Planar, DepthConvention::Radial, DepthConvention::Ndc,
+                                           DepthConvention::Position};
+    options.depth = conventions[seed % 4];
+    options.reversed_z = options.depth == DepthConvention::Ndc && (seed / 4) % 2 == 1;
+    f.gbuffer = synth::render(f.scene, f.camera, options);
+    return f;
+}
+
+// Hundreds of decals: scattered on surfaces plus the hard cases, all in one scene.
+DecalScene makeRandomDecals(const RandomFrame& f, std::uint32_t seed, int count) {
+    synth::ScatterOptions scatter;
+    scatter.count = count;
+    scatter.min_size = 0.3;
+    scatter.max_size = 6.0;
+    scatter.texture_size = 8 + int(seed % 3) * 12;
+    scatter.seed = seed;
+    DecalScene scene = synth::scatterDecals(f.gbuffer, f.camera, scatter);
+    std::mt19937 rng(seed + 17);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const glm::dmat4 camera_to_world = glm::inverse(f.camera.world_to_camera);
+    const glm::dvec3 eye(camera_to_world[3]);
+    const glm::dvec3 forward = -glm::dvec3(camera_to_world[2]);
+    auto add = [&](const std::string& name, glm::dmat4 m) {
+        Decal d;
+        d.name = name;
+        d.world_matrix = m;
+        d.albedo_texture = int(rng() % scene.textures.size());
+        d.opacity = 0.7f;
+        d.filter = rng() % 2 ? TextureFilter::Linear : TextureFilter::Nearest;
+        scene.decals.insert(scene.decals.begin() + std::ptrdiff_t(rng() % (scene.decals.size() + 1)), d);
+    };
+    auto rotated = [&](glm::dvec3 centre, glm::dvec3 size) {
+        glm::dmat4 m = glm::translate(glm::dmat4(1.0), centre);
+        m = glm::rotate(m, u(rng) * 3.0, glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)) + 1e-6));
+        return glm::scale(m, size);
+    };
+    add("camera_inside", rotated(eye, glm::dvec3(6.0, 5.0, 7.0)));
+    add("crossing_near_plane", rotated(eye + forward * 0.3, glm::dvec3(2.0, 2.0, 2.0)));
+    add("behind_camera", rotated(eye - forward * 4.0, glm::dvec3(1.5)));
+    add("huge", rotated(glm::dvec3(0.0), glm::dvec3(300.0, 250.0, 40.0)));
+    add("thin", rotated(eye + forward * 6.0, glm::dvec3(3.0, 3.0, 1e-3)));
+    add("needle", rotated(eye + forward * 5.0, glm::dvec3(1e-3, 1e-3, 8.0)));
+    add("tiny", rotated(eye + forward * 5.0, glm::dvec3(1e-4)));
+    return scene;
+}
+
+struct Comparison {
+    std::size_t compared = 0, ambiguous = 0, mismatched = 0, changed = 0;
+    double max_error = 0;
+};
+
+Comparison compareWithReference(const GBuffer& input, const GBuffer& output, const reference::ShadeResult& ref,
+                                double tolerance) {
+    Comparison c;
+    const Plane& in = input.planes.at(Attribute::Albedo);
+    const Plane& out = output.planes.at(Attribute::Albedo);
+    for (std::size_t i = 0; i < input.pixelCount(); ++i) {
+        bool changed = false;
+        for (int ch = 0; ch < 3; ++ch) changed |= ref.albedo.at(i, ch) != in.at(i, ch);
+        c.changed += changed;
+        if (ref.ambiguous[i]) {
+            ++c.ambiguous;
+            continue;
+        }
+        ++c.compared;
+        double error = 0;
+        for (int ch = 0; ch < 3; ++ch) error = std::max(error, double(std::abs(out.at(i, ch) - ref.albedo.at(i, ch))));
+        c.max_error = std::max(c.max_error, error);
+        if (error > tolerance) ++c.mismatched;
+    }
+    return c;
+}
+
+// How far float rounding can move a point, relative to its distance: hardware (ndc) depth loses
+// precision with distance, so its reconstructed positions are far less exact.
+double roundingMargin(const GBuffer& g) { return g.depth_convention == DepthConvention::Ndc ? 5e-6 : 5e-7; }
+
+// Tolerance: blending hundreds of decals in float vs double drifts far less than this.
+constexpr double kAlbedoTolerance = 2e-4;
+
+class RandomScenes : public ::testing::TestWithParam<std::uint32_t> {};
+
+TEST_P(RandomScenes, BinnedKernelMatchesReference) {
+    const RandomFrame f = makeRandomFrame(GetParam());
+    const DecalScene decals = makeRandomDecals(f, GetParam(), 300);
+    Compositor compositor(cpuDevice());
+    compositor.setScene(decals);
+    GBuffer out = f.gbuffer;
+    compositor.composite(out, f.camera);
+    const auto ref = reference::shade(f.gbuffer, f.camera, decals, roundingMargin(f.gbuffer));
+    const Comparison c = compareWithReference(f.gbuffer, out, ref, kAlbedoTolerance);
+    EXPECT_EQ(c.mismatched, 0u) << "max error " << c.max_error << " over " << c.compared << " pixels";
+    // Each nearest decal centred on a surface point puts that pixel exactly on a texel edge, so a
+    // few percent of pixels are legitimately ambiguous; more would make the comparison hollow.
+    EXPECT_LT(double(c.ambiguous), 0.10 * double(f.gbuffer.pixelCount())) << "too many boundary pixels to be meaningful";
+    EXPECT_GT(double(c.changed), 0.05 * double(f.gbuffer.pixelCount())) << "scene decals too few pixels to test";
+}
+
+TEST_P(RandomScenes, BinnedEqualsUnbinnedExactly) {
+    const RandomFrame f = makeRandomFrame(GetParam());
+    const DecalScene decals = makeRandomDecals(f, GetParam(), 300);
+    Compositor compositor(cpuDevice());
+    compositor.setScene(decals);
+    GBuffer binned = f.gbuffer, unbinned = f.gbuffer;
+    compositor.composite(binned, f.camera, {true});
+    compositor.composite(unbinned, f.camera, {false});
+    const auto& a = binned.planes.at(Attribute::Albedo).samples;
+    const auto& b = unbinned.planes.at(Attribute::Albedo).samples;
+    ASSERT_EQ(a.size(), b.size());
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) differing += std::memcmp(&a[i], &b[i], sizeof(float)) != 0;
+    EXPECT_EQ(differing, 0u) << "binning dropped or reordered decals for some pixels";
+}
+
+TEST_P(RandomScenes, TileDepthRangesMatchReference) {
+    const RandomFrame f = makeRandomFrame(GetParam());
+    const DecalScene decals = makeRandomDecals(f, GetParam(), 20);
+    Compositor compositor(cpuDevice());
+    compositor.setScene(decals);
+    GBuffer out = f.gbuffer;
+    compositor.composite(out, f.camera);
+    const BinningResult bins = compositor.lastBinning();
+    const auto ref = reference::tileDepthRanges(f.gbuffer, f.camera, DC_TILE_SIZE);
+    ASSERT_EQ(bins.tile_depth.size(), ref.size() * 2);
+    std::size_t non_empty = 0;
+    for (std::size_t t = 0; t < ref.size(); ++t) {
+        const float lo = bins.tile_depth[2 * t], hi = bins.tile_depth[2 * t + 1];
+        ASSERT_EQ(ref[t].empty, lo > hi) << "tile " << t;
+        if (ref[t].empty) continue;
+        ++non_empty;
+        EXPECT_NEAR(lo, ref[t].min, 1e-5 * (1 + ref[t].min)) << "tile " << t;
+        EXPECT_NEAR(hi, ref[t].max, 1e-5 * (1 + ref[t].max)) << "tile " << t;
+    }
+    EXPECT_GT(non_empty, 0u);
+}
+
+TEST_P(RandomScenes, BinningIsConservativeAndOrdered) {
+    const RandomFrame f = makeRandomFrame(GetParam());
+    const DecalScene decals = makeRandomDecals(f, GetParam(), 300);
+    Compositor compositor(cpuDevice());
+    compositor.setScene(decals);
+    GBuffer out = f.gbuffer;
+    compositor.composite(out, f.camera);
+    const BinningResult bins = compositor.lastBinning();
+    const auto exact = reference::exactBins(f.gbuffer, f.camera, decals, DC_TILE_SIZE);
+    ASSERT_EQ(bins.tile_offsets.size(), exact.size() + 1);
+    std::size_t needed = 0, listed = 0;
+    for (std::size_t t = 0; t < exact.size(); ++t) {
+        const std::vector<int> got(bins.tile_decals.begin() + bins.tile_offsets[t],
+                                   bins.tile_decals.begin() + bins.tile_offsets[t + 1]);
+        EXPECT_TRUE(std::is_sorted(got.begin(), got.end())) << "tile " << t << " lost decal order";
+        for (int d : exact[t])
+            EXPECT_TRUE(std::binary_search(got.begin(), got.end(), d))
+                << "tile " << t << " misses decal " << d << " (" << decals.decals[std::size_t(d)].name << ")";
+        needed += exact[t].size();
+        listed += got.size();
+    }
+    EXPECT_GT(needed, 0u);
+    // Conservative but useful: the bins must not degenerate to "every decal everywhere".
+    EXPECT_LE(listed, 2 * needed + exact.size());
+}
+
+INSTANTIATE_TEST_SUITE_P(Kernels, RandomScenes, ::testing::Range(1u, 13u));
+
+TEST(Kernels, ProgramBuildsOnPocl) {
+    EXPECT_NO_THROW(cpuDevice().program());
+}
+
+TEST(Kernels, BackgroundAndNoDecalPixelsPassThroughBitExact) {
+    RandomFrame f = makeRandomFrame(3);
+    Plane& depth = f.gbuffer.planes.at(Attribute::Depth);
+    depth.at(0, 0) = std::nanf("");
+    depth.at(1, 0) = INFINITY;
+    depth.at(2, 0) = -1.0f;
+    depth.at(3, 0) = 0.0f;
+    Compositor compositor(cpuDevice());
+    DecalScene scene;
+    scene.textures.push_back(synth::proceduralTexture(1, 8, 1));
+    Decal everywhere;
+    everywhere.world_matrix = glm::scale(glm::dmat4(1.0), glm::dvec3(1e4));
+    everywhere.albedo_texture = 0;
+    scene.decals.push_back(everywhere);
+    compositor.setScene(scene);
+    GBuffer out = f.gbuffer;
+    compositor.composite(out, f.camera);
+    const auto ref = reference::shade(f.gbuffer, f.camera, scene);
+    const Plane& in = f.gbuffer.planes.at(Attribute::Albedo);
+    const Plane& result = out.planes.at(Attribute::Albedo);
+    std::size_t background = 0;
+    for (std::size_t i = 0; i < f.gbuffer.pixelCount(); ++i) {
+        if (reference::pixelWorldPoint(f.gbuffer, f.camera, int(i % f.gbuffer.width), int(i / f.gbuffer.width))) continue;
+        ++background;
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(std::memcmp(&in.samples[i * 3 + c], &result.samples[i * 3 + c], sizeof(float)), 0) << i;
+    }
+    EXPECT_GE(background, 4u);
+
+    compositor.setScene(DecalScene{});
+    GBuffer untouched = f.gbuffer;
+    compositor.composite(untouched, f.camera);
+    EXPECT_EQ(std::memcmp(untouched.planes.at(Attribute::Albedo).samples.data(), in.samples.data(),
+                          in.samples.size() * sizeof(float)),
+              0);
+}
+
+TEST(Kernels, DataWindowOffsetMatchesReference) {
+    RandomFrame f = makeRandomFrame(6);
+    // Pretend the frame is a crop of a larger display window.
+    f.gbuffer.display_width = f.gbuffer.width + 30;
+    f.gbuffer.display_height = f.gbuffer.height + 20;
+    f.gbuffer.origin_x = 11;
+    f.gbuffer.origin_y = 7;
+    const DecalScene decals = makeRandomDecals(f, 6, 100);
+    Compositor compositor(cpuDevice());
+    compositor.setScene(decals);
+    GBuffer out = f.gbuffer;
+    compositor.composite(out, f.camera);
+    const auto ref = reference::shade(f.gbuffer, f.camera, decals);
+    const Comparison c = compareWithReference(f.gbuffer, out, ref, kAlbedoTolerance);
+    EXPECT_EQ(c.mismatched, 0u) << "max error " << c.max_error;
+}
+
+}  // namespace
+}  // namespace decalcomp
