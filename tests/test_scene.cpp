@@ -222,9 +222,11 @@ TEST(SceneLoad, TextureAlphaModeIsPassedOn) {
     ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, px));
     out->close();
     const std::string path = writeScene(dir, R"({"textures": {"s": {"albedo": "t.exr", "alpha": "straight"}},
-        "decals": [{"texture": "s", "scale": 1}, {"texture": "t.exr", "scale": 1}]})");
+        "decals": [{"texture": "s", "scale": 1}, {"texture": "t.exr", "scale": 1},
+                   {"texture": {"albedo": "t.exr", "alpha": "straight"}, "scale": 1}]})");
     const DecalScene s = loadScene(path);
     ASSERT_EQ(s.textures.size(), 2u);  // same file, different alpha modes
+    EXPECT_EQ(s.decals[2].albedo_texture, s.decals[0].albedo_texture);  // inline object, same request
     EXPECT_FLOAT_EQ(s.textures[size_t(s.decals[0].albedo_texture)].texels[0].r, 0.25f);
     EXPECT_FLOAT_EQ(s.textures[size_t(s.decals[1].albedo_texture)].texels[0].r, 0.5f);
 }
@@ -377,7 +379,7 @@ const ErrorCase kErrorCases[] = {
     {"FilterAndInterpolation", "{\"filter\": \"linear\", \"interpolation\": \"closest\", \"decals\": []}",
      "interpolation: give either 'filter' or 'interpolation'"},
     {"FormatType", "{\"format\": 1, \"decals\": []}", "format: expected a string"},
-    {"HugeNumber", D("{" T ", \"scale\": 1e999}"), "not valid JSON"},
+    {"HugeNumber", D("{" T ", \"scale\": 1e999}"), "not valid JSON (number overflow parsing '1e999')"},
 };
 #undef D
 #undef T

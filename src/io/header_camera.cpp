@@ -168,6 +168,8 @@ void writeCameraToExrHeader(const Camera& camera, Imf::Header& header) {
     setRow(to_ndc, 1, 0.5 * (w - y));  // y_rm = (1 - ndc_y) / 2
     setRow(to_ndc, 2, 0.5 * (z + w));  // depth in [0,1] near to far; not read back
     setRow(to_ndc, 3, w);
+    // Replace rather than assign: an existing attribute of another type (m44d, double) would throw.
+    for (const char* name : {"worldToCamera", "worldToNDC", "clipNear", "clipFar"}) header.erase(name);
     header.insert("worldToCamera", Imf::M44fAttribute(rowVectorMatrix(kFlipZ * camera.world_to_camera)));
     header.insert("worldToNDC", Imf::M44fAttribute(rowVectorMatrix(to_ndc)));
     header.insert("clipNear", Imf::FloatAttribute(float(camera.nearPlane())));

@@ -100,9 +100,9 @@ std::pair<size_t, size_t> lineAndColumn(const std::string& text, size_t bytesRea
 }
 
 // nlohmann's own message minus its "[json.exception...] parse error at ...: " prefix, on one line.
-std::string parseReason(const std::string& what) {
-    const size_t colon = what.find(": ");
-    std::string reason = colon == std::string::npos ? what : what.substr(colon + 2);
+std::string parseReason(std::string reason) {
+    if (reason.starts_with("[json.exception.")) reason = reason.substr(std::min(reason.size(), reason.find("] ") + 2));
+    if (reason.starts_with("parse error")) reason = reason.substr(std::min(reason.size(), reason.find(": ") + 2));
     std::string out;
     for (char c : reason) out += (c == '\n') ? std::string("\\n") : (c == '\r' || c == '\t') ? " " : std::string(1, c);
     return out;

@@ -1,1 +1,343 @@
-int main() { return 1; }  // placeholder, being written
+// decalcomp-bench: times the compositor's kernels on synthetic G-buffers, binned and unbinned.
+//
+// For every frame size and decal count it renders the demo scene, scatters small decals on its
+// visible surfaces, composites once to warm up, then `--repeat` times, and reports medians of the
+// device kernel time (OpenCL profiling events: tile bounds + binning + shading) and of the wall time
+// of Compositor::composite() (which includes uploads and the download). Links only decalcomp_core,
+// so it runs wherever an OpenCL ICD is installed (docs/benchmarks.md).
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "decalcomp/compositor.hpp"
+#include "decalcomp/device.hpp"
+#include "decalcomp/error.hpp"
+#include "decalcomp/synth.hpp"
+
+namespace {
+
+using namespace decalcomp;
+
+// Screen tile edge (DC_TILE_SIZE in kernels/shared_types.h, not a public header); runCase checks it
+// against CompositeStats::tiles.
+constexpr int kTileSize = 16;
+
+struct FrameSize {
+    int width = 0, height = 0;
+};
+
+FrameSize parseSize(const std::string& text) {
+    const auto x = text.find_first_of("xX");
+    try {
+        if (x != std::string::npos) {
+            std::size_t used_w = 0, used_h = 0;
+            const int w = std::stoi(text.substr(0, x), &used_w);
+            const int h = std::stoi(text.substr(x + 1), &used_h);
+            if (used_w == x && used_h == text.size() - x - 1 && w > 0 && h > 0) return {w, h};
+        }
+    } catch (const std::exception&) {
+    }
+    throw Error(ErrorKind::Usage, fmt::format("--sizes: '{}' is not WIDTHxHEIGHT", text));
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct Result {
+    FrameSize size;
+    int decals = 0;
+    bool binned = true;
+    bool skipped = false;
+    double kernel_ms = 0, tile_bounds_ms = 0, binning_ms = 0, shading_ms = 0, wall_ms = 0;
+    double kernel_min_ms = 0, kernel_max_ms = 0;
+    std::int64_t bin_entries = 0;
+    int tiles = 0;
+    int max_per_tile = 0;       // longest tile list (binned)
+    double mean_per_tile = 0;   // mean list length over all tiles (binned)
+};
+
+struct Options {
+    std::string device;
+    std::vector<std::string> sizes{"1920x1080", "3840x2160"};
+    std::vector<int> counts{1, 64, 1024, 4096};
+    int repeat = 5;
+    bool quick = false;
+    std::string csv;  // file, "-" = stdout instead of the table
+    double max_unbinned_work = 1920.0 * 1080.0 * 4096.0;
+    double min_size = 0.1, max_size = 0.4;
+    int texture_count = 4, texture_size = 32;
+    std::uint32_t seed = 1;
+    std::string modes = "both";  // both, binned, unbinned
+};
+
+Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camera, int decals, bool binned,
+               int repeat) {
+    Result r;
+    r.size = {frame.width, frame.height};
+    r.decals = decals;
+    r.binned = binned;
+    const CompositeOptions options{binned};
+    const Plane pristine = frame.planes.at(Attribute::Albedo);
+    GBuffer work = frame;
+
+    // Warm-up: first launches, allocations, lazy compilation in some drivers.
+    CompositeStats warm = compositor.composite(work, camera, options);
+    r.tiles = warm.tiles;
+    const int expected_tiles = ((frame.width + kTileSize - 1) / kTileSize) * ((frame.height + kTileSize - 1) / kTileSize);
+    if (warm.tiles != expected_tiles)
+        fmt::print(stderr, "warning: {} tiles, expected {} for {}-pixel tiles; test ratios are off\n", warm.tiles,
+                   expected_tiles, kTileSize);
+    r.bin_entries = warm.bin_entries;
+    if (binned) {
+        const BinningResult b = compositor.lastBinning();
+        const std::size_t tiles = std::size_t(b.tiles_x) * std::size_t(b.tiles_y);
+        for (std::size_t t = 0; t < tiles && t + 1 < b.tile_offsets.size(); ++t)
+            r.max_per_tile = std::max(r.max_per_tile, b.tile_offsets[t + 1] - b.tile_offsets[t]);
+        r.mean_per_tile = tiles ? double(r.bin_entries) / double(tiles) : 0.0;
+    }
+
+    std::vector<double> kernel, tile_bounds, binning, shading, wall;
+    for (int i = 0; i < repeat; ++i) {
+        work.planes.at(Attribute::Albedo) = pristine;  // same input every repetition, not timed
+        const auto t0 = std::chrono::steady_clock::now();
+        const CompositeStats s = compositor.composite(work, camera, options);
+        const auto t1 = std::chrono::steady_clock::now();
+        kernel.push_back(s.totalKernelMs());
+        tile_bounds.push_back(s.tile_bounds_ms);
+        binning.push_back(s.binning_ms);
+        shading.push_back(s.shading_ms);
+        wall.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+        if (s.bin_entries != r.bin_entries)
+            throw deviceError(fmt::format("bin entries changed between repetitions: {} then {}", r.bin_entries,
+                                          s.bin_entries));
+    }
+    r.kernel_ms = median(kernel);
+    r.kernel_min_ms = *std::min_element(kernel.begin(), kernel.end());
+    r.kernel_max_ms = *std::max_element(kernel.begin(), kernel.end());
+    r.tile_bounds_ms = median(tile_bounds);
+    r.binning_ms = median(binning);
+    r.shading_ms = median(shading);
+    r.wall_ms = median(wall);
+    return r;
+}
+
+const Result* find(const std::vector<Result>& results, int w, int h, int decals, bool binned) {
+    for (const auto& r : results)
+        if (r.size.width == w && r.size.height == h && r.decals == decals && r.binned == binned && !r.skipped)
+            return &r;
+    return nullptr;
+}
+
+std::string ms(double v) { return v >= 100 ? fmt::format("{:.1f}", v) : v >= 1 ? fmt::format("{:.2f}", v) : fmt::format("{:.3f}", v); }
+
+void printTable(const std::vector<Result>& results, std::FILE* out) {
+    fmt::print(out, "{:>9} {:>6} {:>8} | {:>10} {:>8} {:>8} {:>10} | {:>10} | {:>10} {:>8} {:>8} | {:>9}\n", "size",
+               "decals", "mode", "kernel ms", "tilebnd", "binning", "shading", "wall ms", "bin entr.", "mean/t",
+               "max/t", "speedup");
+    fmt::print(out, "{}\n", std::string(130, '-'));
+    for (const auto& r : results) {
+        const std::string size = fmt::format("{}x{}", r.size.width, r.size.height);
+        const char* mode = r.binned ? "binned" : "unbinned";
+        if (r.skipped) {
+            fmt::print(out, "{:>9} {:>6} {:>8} | {:>10} {:>8} {:>8} {:>10} | {:>10} | {:>10} {:>8} {:>8} | {:>9}\n",
+                       size, r.decals, mode, "skipped", "", "", "", "skipped", "", "", "", "");
+            continue;
+        }
+        std::string speedup;
+        if (r.binned)
+            if (const Result* u = find(results, r.size.width, r.size.height, r.decals, false); u && r.kernel_ms > 0)
+                speedup = fmt::format("{:.1f}x", u->kernel_ms / r.kernel_ms);
+        fmt::print(out, "{:>9} {:>6} {:>8} | {:>10} {:>8} {:>8} {:>10} | {:>10} | {:>10} {:>8} {:>8} | {:>9}\n", size,
+                   r.decals, mode, ms(r.kernel_ms), r.binned ? ms(r.tile_bounds_ms) : "-",
+                   r.binned ? ms(r.binning_ms) : "-", ms(r.shading_ms), ms(r.wall_ms),
+                   r.binned ? fmt::format("{}", r.bin_entries) : "-",
+                   r.binned ? fmt::format("{:.2f}", r.mean_per_tile) : "-",
+                   r.binned ? fmt::format("{}", r.max_per_tile) : "-", speedup);
+    }
+}
+
+void writeCsv(const std::vector<Result>& results, std::ostream& out) {
+    out << "width,height,decals,mode,status,kernel_ms,kernel_min_ms,kernel_max_ms,tile_bounds_ms,binning_ms,"
+           "shading_ms,wall_ms,tiles,bin_entries,mean_per_tile,max_per_tile\n";
+    for (const auto& r : results) {
+        out << fmt::format("{},{},{},{},{}", r.size.width, r.size.height, r.decals, r.binned ? "binned" : "unbinned",
+                           r.skipped ? "skipped" : "ok");
+        if (r.skipped) {
+            out << ",,,,,,,,,,,\n";
+            continue;
+        }
+        out << fmt::format(",{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{},{},{:.3f},{}\n", r.kernel_ms,
+                           r.kernel_min_ms, r.kernel_max_ms, r.tile_bounds_ms, r.binning_ms, r.shading_ms, r.wall_ms,
+                           r.tiles, r.binned ? r.bin_entries : 0, r.mean_per_tile, r.max_per_tile);
+    }
+}
+
+void printHeadline(const std::vector<Result>& results, std::FILE* out) {
+    fmt::print(out, "\nHeadline (1920x1080, median device kernel time):\n");
+    for (int n : {1024, 4096}) {
+        const Result* b = find(results, 1920, 1080, n, true);
+        const Result* u = find(results, 1920, 1080, n, false);
+        if (b && u && b->kernel_ms > 0) {
+            // Pixel-decal box tests: every pixel x every decal unbinned; at most the tile's pixels x its
+            // list length binned. Their ratio bounds what binning can gain in the shading kernel.
+            const double tests_unbinned = double(u->size.width) * u->size.height * n;
+            const double tests_binned = double(b->bin_entries) * kTileSize * kTileSize;
+            fmt::print(out,
+                       "  {:>4} decals: unbinned / binned = {:.1f}x  ({} ms vs {} ms; shading alone {:.1f}x; "
+                       "pixel-decal tests {:.1f}x fewer binned)\n",
+                       n, u->kernel_ms / b->kernel_ms, ms(u->kernel_ms), ms(b->kernel_ms),
+                       b->shading_ms > 0 ? u->shading_ms / b->shading_ms : 0.0,
+                       tests_binned > 0 ? tests_unbinned / tests_binned : 0.0);
+        } else {
+            fmt::print(out, "  {:>4} decals: unbinned / binned = n/a ({} not run or skipped)\n", n,
+                       !b && !u ? "neither" : !b ? "binned" : "unbinned");
+        }
+    }
+    const Result* b1 = find(results, 1920, 1080, 1, true);
+    const Result* b4096 = find(results, 1920, 1080, 4096, true);
+    if (b1 && b4096 && b1->kernel_ms > 0)
+        fmt::print(out, "  binned 4096 decals / binned 1 decal = {:.2f}x  ({} ms vs {} ms)\n",
+                   b4096->kernel_ms / b1->kernel_ms, ms(b4096->kernel_ms), ms(b1->kernel_ms));
+    else
+        fmt::print(out, "  binned 4096 decals / binned 1 decal = n/a (not run)\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options opt;
+    CLI::App app{"decalcomp-bench: kernel timings of the decal compositor on synthetic G-buffers"};
+    app.add_option("--device", opt.device,
+                   "OpenCL device: \"\" = first GPU else CPU, an index, gpu/cpu, or part of a name/vendor/platform");
+    app.add_option("--sizes", opt.sizes, "frame sizes, WIDTHxHEIGHT, comma-separated")->delimiter(',');
+    app.add_option("--counts", opt.counts, "decal counts, comma-separated")->delimiter(',')->check(CLI::PositiveNumber);
+    app.add_option("--repeat", opt.repeat, "timed repetitions per case (median reported)")->check(CLI::PositiveNumber);
+    app.add_flag("--quick", opt.quick, "CI-sized run: 480x270 with 1 and 64 decals");
+    app.add_option("--csv", opt.csv, "also write the results as CSV to this file (\"-\": CSV on stdout, no table)");
+    app.add_option("--max-unbinned-work", opt.max_unbinned_work,
+                   "skip unbinned cases with pixels x decals above this (default 1920*1080*4096)");
+    app.add_option("--modes", opt.modes, "both, binned or unbinned")->check(CLI::IsMember({"both", "binned", "unbinned"}));
+    app.add_option("--min-size", opt.min_size, "smallest decal edge, world units (demo scene is ~10 units across)");
+    app.add_option("--max-size", opt.max_size, "largest decal edge, world units");
+    app.add_option("--textures", opt.texture_count, "procedural textures")->check(CLI::PositiveNumber);
+    app.add_option("--texture-size", opt.texture_size, "texture edge, texels")->check(CLI::PositiveNumber);
+    app.add_option("--seed", opt.seed, "decal scatter seed");
+    bool list = false;
+    app.add_flag("--list-devices", list, "list OpenCL devices and exit");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
+    }
+
+    try {
+        if (list) {
+            for (const auto& d : listDevices())
+                fmt::print("{}: {} ({}, {}, {})\n", d.index, d.name, d.type, d.platform, d.version);
+            return 0;
+        }
+        if (opt.quick) {
+            if (app.count("--sizes") == 0) opt.sizes = {"480x270"};
+            if (app.count("--counts") == 0) opt.counts = {1, 64};
+        }
+        std::vector<FrameSize> sizes;
+        for (const auto& s : opt.sizes) sizes.push_back(parseSize(s));
+        if (opt.min_size <= 0 || opt.max_size < opt.min_size)
+            throw Error(ErrorKind::Usage, "--min-size/--max-size: need 0 < min <= max");
+
+        const bool csv_stdout = opt.csv == "-";
+        std::FILE* info = csv_stdout ? stderr : stdout;
+
+        ComputeDevice device(opt.device);
+        const DeviceInfo& di = device.info();
+        fmt::print(info, "device: {} ({}, {}, {}; {} compute units, {} MHz)\n", di.name, di.type, di.platform,
+                   di.version, di.device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>(),
+                   di.device.getInfo<CL_DEVICE_MAX_CLOCK_FREQUENCY>());
+        fmt::print(info, "decals: {}-{} world units, {} textures of {}^2 texels, seed {}; repeat {} (median), 1 warm-up\n",
+                   opt.min_size, opt.max_size, opt.texture_count, opt.texture_size, opt.seed, opt.repeat);
+        std::fflush(info);
+
+        const auto build0 = std::chrono::steady_clock::now();
+        Compositor compositor(device);  // builds the program
+        fmt::print(info, "program build: {:.0f} ms\n\n",
+                   std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - build0).count());
+
+        const synth::Scene scene = synth::demoScene();
+        std::vector<Result> results;
+        for (const FrameSize& size : sizes) {
+            const Camera camera = synth::demoCamera(size.width, size.height);
+            GBuffer full = synth::render(scene, camera, synth::RenderOptions{size.width, size.height});
+            for (int count : opt.counts) {
+                synth::ScatterOptions scatter;
+                scatter.count = count;
+                scatter.min_size = opt.min_size;
+                scatter.max_size = opt.max_size;
+                scatter.texture_count = opt.texture_count;
+                scatter.texture_size = opt.texture_size;
+                scatter.seed = opt.seed;
+                compositor.setScene(synth::scatterDecals(full, camera, scatter));
+                // The compositor reads only depth and albedo here; drop the rest to keep copies cheap.
+                GBuffer frame = full;
+                for (auto it = frame.planes.begin(); it != frame.planes.end();)
+                    it = (it->first == Attribute::Depth || it->first == Attribute::Albedo) ? std::next(it)
+                                                                                             : frame.planes.erase(it);
+                for (bool binned : {true, false}) {
+                    if ((binned && opt.modes == "unbinned") || (!binned && opt.modes == "binned")) continue;
+                    fmt::print(info, "  {}x{} {:>5} decals {:<8} ...", size.width, size.height, count,
+                               binned ? "binned" : "unbinned");
+                    std::fflush(info);
+                    const double work = double(size.width) * size.height * count;
+                    if (!binned && work > opt.max_unbinned_work) {
+                        Result r;
+                        r.size = size;
+                        r.decals = count;
+                        r.binned = false;
+                        r.skipped = true;
+                        results.push_back(r);
+                        fmt::print(info, " skipped (pixels x decals {:.3g} > --max-unbinned-work {:.3g})\n", work,
+                                   opt.max_unbinned_work);
+                        continue;
+                    }
+                    const auto t0 = std::chrono::steady_clock::now();
+                    results.push_back(runCase(compositor, frame, camera, count, binned, opt.repeat));
+                    fmt::print(info, " kernel {} ms ({:.1f} s)\n", ms(results.back().kernel_ms),
+                               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+                    std::fflush(info);
+                }
+            }
+        }
+
+        if (!opt.csv.empty()) {
+            if (csv_stdout) {
+                writeCsv(results, std::cout);
+            } else {
+                std::ofstream file(opt.csv);
+                writeCsv(results, file);
+                if (!file) throw outputError(fmt::format("--csv {}: cannot write", opt.csv));
+            }
+        }
+        fmt::print(info, "\n");
+        if (!csv_stdout) printTable(results, stdout);
+        printHeadline(results, info);
+        return 0;
+    } catch (const Error& e) {
+        fmt::print(stderr, "decalcomp-bench: {}\n", e.what());
+        return int(e.kind());
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "decalcomp-bench: {}\n", e.what());
+        return 1;
+    }
+}

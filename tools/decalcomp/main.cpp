@@ -1,1 +1,41 @@
-int main() { return 1; }  // placeholder, being written
+// decalcomp: stamps decals into rendered G-buffer EXRs on an OpenCL device.
+#include <fmt/format.h>
+
+#include <iostream>
+
+#include "commands.hpp"
+#include "decalcomp/error.hpp"
+
+namespace {
+
+constexpr int kExitInternal = 1;
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"decalcomp: composite decals into rendered G-buffer EXRs on an OpenCL device"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "decalcomp 0.1.0");
+    std::function<void()> run;
+    const auto composite = decalcomp::cli::addCompositeCommand(app);
+    const auto info = decalcomp::cli::addInfoCommand(app);
+    const auto devices = decalcomp::cli::addDevicesCommand(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? 0 : int(decalcomp::ErrorKind::Usage);
+    }
+    try {
+        if (app.got_subcommand("composite")) composite();
+        else if (app.got_subcommand("info")) info();
+        else if (app.got_subcommand("devices")) devices();
+        return 0;
+    } catch (const decalcomp::Error& e) {
+        std::cerr << "decalcomp: error: " << e.what() << "\n";
+        return int(e.kind());
+    } catch (const std::exception& e) {
+        std::cerr << "decalcomp: internal error: " << e.what() << "\n";
+        return kExitInternal;
+    }
+}
