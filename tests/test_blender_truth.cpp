@@ -99,7 +99,9 @@ TEST(BlenderTruth, UntouchedChannelsAreBitExact) {
         EXPECT_EQ(a.qualified, b.qualified);
         EXPECT_EQ(a.type, b.type);
         const bool albedo = a.qualified.find("DiffCol") != std::string::npos;
-        if (!albedo) EXPECT_EQ(a.bytes, b.bytes) << a.qualified << " changed";
+        if (!albedo) {
+            EXPECT_EQ(a.bytes, b.bytes) << a.qualified << " changed";
+        }
         changed_channels += a.bytes != b.bytes;
     }
     EXPECT_EQ(changed_channels, 3u);  // exactly DiffCol R, G, B

@@ -101,7 +101,8 @@ TEST(SceneLoad, TopLevelFilterAndInterpolationSetTheDefault) {
     ScratchDir dir;
     writePng(dir.file("t.png"), 9);
     const std::string a = writeScene(dir, R"({"filter": "nearest", "decals": [
-        {"texture": "t.png", "scale": 1}, {"texture": "t.png", "scale": 1, "filter": "linear"}]})", "a.json");
+        {"texture": "t.png", "scale": 1}, {"texture": "t.png", "scale": 1, "filter": "linear"}]})",
+                                     "a.json");
     const DecalScene sa = loadScene(a);
     EXPECT_EQ(sa.decals[0].filter, TextureFilter::Nearest);
     EXPECT_EQ(sa.decals[1].filter, TextureFilter::Linear);
@@ -132,7 +133,7 @@ TEST(SceneLoad, QuaternionMatchesEulerAndIsNormalised) {
         {{"texture": "t", "quaternion_wxyz": [{0},0,0,{0}], "translate": [1,2,3], "scale": 2}},
         {{"texture": "t", "quaternion_wxyz": [2,0,0,2], "translate": [1,2,3], "scale": [2,2,2]}},
         {{"texture": "t", "rotate_deg": [0,0,90], "translate": [1,2,3], "scale": 2}}])",
-                                                   h)));
+                                                       h)));
     const glm::dmat4 want = rows({{0, -2, 0, 1}, {2, 0, 0, 2}, {0, 0, 2, 3}, {0, 0, 0, 1}});
     for (const Decal& d : s.decals) expectMatrixNear(d.world_matrix, want, 1e-12);
 }
@@ -198,8 +199,8 @@ TEST(SceneLoad, TexturesResolveRelativeToTheSceneAndAreShared) {
 TEST(SceneLoad, AbsoluteTexturePathsWork) {
     ScratchDir dir, other;
     writePng(other.file("abs.png"), 77);
-    const std::string path = writeScene(
-        dir, nlohmann::json{{"decals", {{{"texture", other.file("abs.png")}, {"scale", 1}}}}}.dump());
+    const std::string path =
+        writeScene(dir, nlohmann::json{{"decals", {{{"texture", other.file("abs.png")}, {"scale", 1}}}}}.dump());
     const DecalScene s = loadScene(path);
     ASSERT_EQ(s.textures.size(), 1u);
     EXPECT_NEAR(s.textures[0].texels[0].r, srgbToLinear(77 / 255.0f), 1e-7);
@@ -225,7 +226,7 @@ TEST(SceneLoad, TextureAlphaModeIsPassedOn) {
         "decals": [{"texture": "s", "scale": 1}, {"texture": "t.exr", "scale": 1},
                    {"texture": {"albedo": "t.exr", "alpha": "straight"}, "scale": 1}]})");
     const DecalScene s = loadScene(path);
-    ASSERT_EQ(s.textures.size(), 2u);  // same file, different alpha modes
+    ASSERT_EQ(s.textures.size(), 2u);                                   // same file, different alpha modes
     EXPECT_EQ(s.decals[2].albedo_texture, s.decals[0].albedo_texture);  // inline object, same request
     EXPECT_FLOAT_EQ(s.textures[size_t(s.decals[0].albedo_texture)].texels[0].r, 0.25f);
     EXPECT_FLOAT_EQ(s.textures[size_t(s.decals[1].albedo_texture)].texels[0].r, 0.5f);
@@ -240,8 +241,9 @@ TEST(SceneLoad, EmptyDecalListIsValid) {
 
 TEST(SceneLoad, CommentsAreAllowed) {
     SceneFixture f;
-    const std::string path = writeScene(f.dir, "{\n// a comment\n\"textures\": {\"t\": \"tex/t.png\"}, /* more */\n"
-                                               "\"decals\": [{\"texture\": \"t\", \"scale\": 1}]}\n");
+    const std::string path = writeScene(f.dir,
+                                        "{\n// a comment\n\"textures\": {\"t\": \"tex/t.png\"}, /* more */\n"
+                                        "\"decals\": [{\"texture\": \"t\", \"scale\": 1}]}\n");
     EXPECT_EQ(loadScene(path).decals.size(), 1u);
 }
 
@@ -273,7 +275,7 @@ TEST(SceneLoad, BlenderNeutralFormat) {
 
 struct ErrorCase {
     const char* label;
-    const char* json;  // whole scene text
+    const char* json;      // whole scene text
     const char* expected;  // substring after "<file>: "
 };
 
@@ -311,11 +313,13 @@ const ErrorCase kErrorCases[] = {
     {"UnsupportedKind", D("{" T ", \"scale\": 1}, {" T ", \"scale\": 1}, {\"kind\": \"frustum\", \"fov_y_deg\": 40}"),
      "decals[2].kind: unsupported kind 'frustum' (supported: box)"},
     {"KindNotString", D("{\"kind\": 1}"), "decals[0].kind: expected a string"},
-    {"UnknownKey", D("{" T ", \"scale\": 1, \"opactiy\": 1}"), "decals[0].opactiy: unknown key (did you mean 'opacity'?)"},
+    {"UnknownKey", D("{" T ", \"scale\": 1, \"opactiy\": 1}"),
+     "decals[0].opactiy: unknown key (did you mean 'opacity'?)"},
     {"LocationWithoutWorldMatrix", D("{" T ", \"location\": [0,0,0]}"), "decals[0].location: unknown key"},
     {"MipFilter", D("{" T ", \"scale\": 1, \"filter\": \"mip\"}"), "decals[0].filter: 'mip' is not supported yet"},
     {"BadFilter", D("{" T ", \"scale\": 1, \"filter\": \"cubic\"}"), "decals[0].filter: unknown filter 'cubic'"},
-    {"OpacityRange", D("{" T ", \"scale\": 1}, {" T ", \"scale\": 1}, {" T ", \"scale\": 1}, {" T ", \"scale\": 1, \"opacity\": 1.5}"),
+    {"OpacityRange",
+     D("{" T ", \"scale\": 1}, {" T ", \"scale\": 1}, {" T ", \"scale\": 1}, {" T ", \"scale\": 1, \"opacity\": 1.5}"),
      "decals[3].opacity: expected a number in [0,1]"},
     {"OpacityType", D("{" T ", \"scale\": 1, \"opacity\": \"1\"}"), "decals[0].opacity: expected a number in [0,1]"},
     {"PriorityFloat", D("{" T ", \"scale\": 1, \"priority\": 1.5}"), "decals[0].priority: expected an integer"},
@@ -332,18 +336,20 @@ const ErrorCase kErrorCases[] = {
        "\"world_matrix\": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}"),
      "decals[0]: give either 'matrix' or 'world_matrix'"},
     {"TrsAndLookAt", D("{" T ", \"scale\": 1, \"origin\": [0,0,0]}"), "conflicting placements 'scale' and 'origin'"},
-    {"SingularMatrix",
-     D("{" T ", \"scale\": 1}, {" T ", \"matrix\": [[1,0,0,0],[0,0,0,0],[0,0,1,0],[0,0,0,1]]}"),
+    {"SingularMatrix", D("{" T ", \"scale\": 1}, {" T ", \"matrix\": [[1,0,0,0],[0,0,0,0],[0,0,1,0],[0,0,0,1]]}"),
      "decals[1].matrix: not invertible (degenerate decal)"},
     {"SingularWorldMatrix", D("{" T ", \"world_matrix\": [[1,0,0,0],[2,0,0,0],[0,0,1,0],[0,0,0,1]]}"),
      "decals[0].world_matrix: not invertible (degenerate decal)"},
     {"ProjectiveMatrix", D("{" T ", \"matrix\": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,1,1]]}"),
      "decals[0].matrix: last row must be [0, 0, 0, 1]"},
-    {"MatrixShape", D("{" T ", \"matrix\": [[1,0,0,0],[0,1,0,0],[0,0,1,0]]}"), "decals[0].matrix: expected 4 rows of 4 numbers"},
-    {"MatrixFlat", D("{" T ", \"matrix\": [1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]}"), "decals[0].matrix: expected 4 rows of 4 numbers"},
+    {"MatrixShape", D("{" T ", \"matrix\": [[1,0,0,0],[0,1,0,0],[0,0,1,0]]}"),
+     "decals[0].matrix: expected 4 rows of 4 numbers"},
+    {"MatrixFlat", D("{" T ", \"matrix\": [1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]}"),
+     "decals[0].matrix: expected 4 rows of 4 numbers"},
     {"MatrixElement", D("{" T ", \"matrix\": [[1,0,0,0],[0,1,\"x\",0],[0,0,1,0],[0,0,0,1]]}"),
      "decals[0].matrix[1][2]: expected a number"},
-    {"ZeroScale", D("{" T ", \"translate\": [1,2,3], \"scale\": [1,0,1]}"), "decals[0].scale: not invertible (degenerate decal)"},
+    {"ZeroScale", D("{" T ", \"translate\": [1,2,3], \"scale\": [1,0,1]}"),
+     "decals[0].scale: not invertible (degenerate decal)"},
     {"ScaleShape", D("{" T ", \"scale\": [1,2]}"), "decals[0].scale: expected a number or 3 numbers"},
     {"TranslateShape", D("{" T ", \"translate\": [1,2]}"), "decals[0].translate: expected 3 numbers"},
     {"RotateElement", D("{" T ", \"rotate_deg\": [0,null,0]}"), "decals[0].rotate_deg[1]: expected a number"},
@@ -360,19 +366,24 @@ const ErrorCase kErrorCases[] = {
     {"LookAtBadSize", D("{" T ", \"origin\": [0,0,1], \"target\": [0,0,0], \"up\": [0,1,0], \"size\": [1,0,1]}"),
      "decals[0].size: expected positive sizes"},
     {"TexturesNotObject", "{\"textures\": [], \"decals\": []}", "textures: expected an object"},
-    {"TextureEntryType", "{\"textures\": {\"a\": 3}, \"decals\": []}", "textures.a: expected an image path or an object"},
+    {"TextureEntryType", "{\"textures\": {\"a\": 3}, \"decals\": []}",
+     "textures.a: expected an image path or an object"},
     {"TextureEntryNoAlbedo", "{\"textures\": {\"a\": {\"alpha\": \"straight\"}}, \"decals\": []}",
      "textures.a: missing 'albedo'"},
-    {"TextureEntryFutureSlot", "{\"textures\": {\"a\": {\"albedo\": \"t.png\", \"normal\": \"n.png\"}}, \"decals\": []}",
+    {"TextureEntryFutureSlot",
+     "{\"textures\": {\"a\": {\"albedo\": \"t.png\", \"normal\": \"n.png\"}}, \"decals\": []}",
      "textures.a.normal: not supported yet (supported: albedo)"},
     {"TextureEntryUnknownKey", "{\"textures\": {\"a\": {\"albedo\": \"t.png\", \"albdo\": \"n.png\"}}, \"decals\": []}",
      "textures.a.albdo: unknown key (did you mean 'albedo'?)"},
     {"TextureEntryBadAlpha", "{\"textures\": {\"a\": {\"albedo\": \"t.png\", \"alpha\": \"pre\"}}, \"decals\": []}",
      "textures.a.alpha: unknown alpha mode 'pre'"},
-    {"TextureEntryEmptyPath", "{\"textures\": {\"a\": \"\"}, \"decals\": []}", "textures.a: expected a non-empty image path"},
-    {"TextureKeyQuoted", "{\"textures\": {\"my tex\": 1}, \"decals\": []}", "textures[\"my tex\"]: expected an image path"},
+    {"TextureEntryEmptyPath", "{\"textures\": {\"a\": \"\"}, \"decals\": []}",
+     "textures.a: expected a non-empty image path"},
+    {"TextureKeyQuoted", "{\"textures\": {\"my tex\": 1}, \"decals\": []}",
+     "textures[\"my tex\"]: expected an image path"},
     {"MissingTextureFile",
-     "{\"textures\": {\"scorch\": {\"albedo\": \"tex/scorch.png\"}}, \"decals\": [{\"texture\": \"scorch\", \"scale\": 1}]}",
+     "{\"textures\": {\"scorch\": {\"albedo\": \"tex/scorch.png\"}}, \"decals\": [{\"texture\": \"scorch\", \"scale\": "
+     "1}]}",
      "textures.scorch.albedo: cannot open '"},
     {"MissingDirectTextureFile", D("{\"texture\": \"gone.png\", \"scale\": 1}"), "decals[0].texture: cannot open '"},
     {"BadInterpolation", "{\"interpolation\": \"cubic\", \"decals\": []}", "interpolation: 'cubic' is not supported"},
@@ -390,7 +401,8 @@ INSTANTIATE_TEST_SUITE_P(Scene, SceneErrors, ::testing::ValuesIn(kErrorCases),
 TEST(SceneLoad, MissingTextureErrorNamesThePathAsWritten) {
     ScratchDir dir;
     const std::string path = writeScene(
-        dir, R"({"textures": {"scorch": {"albedo": "tex/scorch.png"}}, "decals": [{"texture": "scorch", "scale": 1}]})");
+        dir,
+        R"({"textures": {"scorch": {"albedo": "tex/scorch.png"}}, "decals": [{"texture": "scorch", "scale": 1}]})");
     try {
         loadScene(path);
         FAIL() << "expected an error";

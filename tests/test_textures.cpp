@@ -64,8 +64,8 @@ TEST(TextureLoad, Png8IsSrgbDecodedThenPremultiplied) {
     ASSERT_EQ(tex.texels.size(), 4u);
     EXPECT_EQ(tex.source, dir.file("t.png"));
     const float a = 128 / 255.0f;
-    expectTexel(tex.texels[0], {srgbToLinear(200 / 255.0f) * a, srgbToLinear(100 / 255.0f) * a,
-                                srgbToLinear(10 / 255.0f) * a, a});
+    expectTexel(tex.texels[0],
+                {srgbToLinear(200 / 255.0f) * a, srgbToLinear(100 / 255.0f) * a, srgbToLinear(10 / 255.0f) * a, a});
     expectTexel(tex.texels[1], {1, 1, 1, 1});
     expectTexel(tex.texels[2], {0, 0, 0, 0});
     const float g = float(eotf(128 / 255.0)) * (64 / 255.0f);

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <map>
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_io.hpp"
@@ -136,6 +137,21 @@ void finishProjection(glm::dmat4& p, const Imf::Header& header, const std::strin
     }
 }
 
+// Header::insert refuses to change an attribute's type (an m44d worldToNDC, say), and OpenEXR
+// 3.1's Header::erase leaks what it drops; so such a header is rebuilt without those attributes.
+void dropMistypedAttributes(Imf::Header& header, const std::map<std::string, std::string>& wanted_types) {
+    bool mistyped = false;
+    for (const auto& [name, type] : wanted_types) {
+        const auto it = header.find(name);
+        mistyped = mistyped || (it != header.end() && type != it.attribute().typeName());
+    }
+    if (!mistyped) return;
+    Imf::Header rebuilt;
+    for (auto it = header.begin(); it != header.end(); ++it)
+        if (!wanted_types.count(it.name())) rebuilt.insert(it.name(), it.attribute());
+    header = rebuilt;
+}
+
 }  // namespace
 
 std::optional<Camera> cameraFromExrHeader(const Imf::Header& header, const std::string& file) {
@@ -168,8 +184,8 @@ void writeCameraToExrHeader(const Camera& camera, Imf::Header& header) {
     setRow(to_ndc, 1, 0.5 * (w - y));  // y_rm = (1 - ndc_y) / 2
     setRow(to_ndc, 2, 0.5 * (z + w));  // depth in [0,1] near to far; not read back
     setRow(to_ndc, 3, w);
-    // Replace rather than assign: an existing attribute of another type (m44d, double) would throw.
-    for (const char* name : {"worldToCamera", "worldToNDC", "clipNear", "clipFar"}) header.erase(name);
+    dropMistypedAttributes(header, {{"worldToCamera", "m44f"}, {"worldToNDC", "m44f"}, {"clipNear", "float"},
+                                    {"clipFar", "float"}});
     header.insert("worldToCamera", Imf::M44fAttribute(rowVectorMatrix(kFlipZ * camera.world_to_camera)));
     header.insert("worldToNDC", Imf::M44fAttribute(rowVectorMatrix(to_ndc)));
     header.insert("clipNear", Imf::FloatAttribute(float(camera.nearPlane())));

@@ -53,8 +53,7 @@ glm::dmat4 composeTrs(const glm::dvec3& translate, const glm::dmat3& rotation, c
     return m;
 }
 
-glm::dmat4 lookAtBox(const glm::dvec3& origin, const glm::dvec3& target, const glm::dvec3& up,
-                     const glm::dvec3& size) {
+glm::dmat4 lookAtBox(const glm::dvec3& origin, const glm::dvec3& target, const glm::dvec3& up, const glm::dvec3& size) {
     // Same frame as a camera at `origin` looking at `target`: -Z forward, +Y up, +X right, so the
     // image reads upright and unmirrored from the origin.
     const glm::dvec3 z = glm::normalize(origin - target);

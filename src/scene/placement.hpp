@@ -16,8 +16,7 @@ glm::dmat4 composeTrs(const glm::dvec3& translate, const glm::dmat3& rotation, c
 
 // A box centred at `target` whose local -Z points from `origin` to `target` and whose local +Y is
 // `up` made perpendicular to it; `size` = (width, height, depth) along local X, Y, Z.
-glm::dmat4 lookAtBox(const glm::dvec3& origin, const glm::dvec3& target, const glm::dvec3& up,
-                     const glm::dvec3& size);
+glm::dmat4 lookAtBox(const glm::dvec3& origin, const glm::dvec3& target, const glm::dvec3& up, const glm::dvec3& size);
 
 // Rows as written in files (M[row][col]) into GLM's column-major storage.
 glm::dmat4 matrixFromRows(const double rows[4][4]);

@@ -29,14 +29,13 @@ using scene_detail::composeTrs;
 
 // Keys a decal object may carry, and those that are ignored notes (not placement or look).
 const std::vector<std::string> kDecalKeys = {
-    "name",  "kind",       "texture",         "matrix", "world_matrix", "translate", "rotate_deg",
-    "scale", "quaternion_wxyz", "origin",    "target", "up",           "size",      "opacity",
-    "filter", "priority"};
+    "name",   "kind",   "texture", "matrix", "world_matrix", "translate", "rotate_deg", "scale", "quaternion_wxyz",
+    "origin", "target", "up",      "size",   "opacity",      "filter",    "priority"};
 const std::vector<std::string> kDecalNotes = {"description", "blender_object"};
 // Written by the neutral Blender export next to world_matrix; they restate it.
 const std::vector<std::string> kWorldMatrixNotes = {"location", "scale", "rotation_quaternion_wxyz"};
-const std::vector<std::string> kTopLevelKeys = {"format", "description", "textures", "decals", "filter",
-                                                "interpolation"};
+const std::vector<std::string> kTopLevelKeys = {"format", "description", "textures",
+                                                "decals", "filter",      "interpolation"};
 const std::vector<std::string> kTrsKeys = {"translate", "rotate_deg", "quaternion_wxyz", "scale"};
 const std::vector<std::string> kLookAtKeys = {"origin", "target", "up", "size"};
 // Texture slots the format reserves for later kinds and attributes.
@@ -110,8 +109,8 @@ std::string parseReason(std::string reason) {
 
 // A texture as a scene names it, before its file is decoded.
 struct TextureRequest {
-    std::string albedo;     // as written in the file
-    std::string jsonPath;   // where it was written, for messages
+    std::string albedo;    // as written in the file
+    std::string jsonPath;  // where it was written, for messages
     AlphaMode alpha = AlphaMode::Auto;
 };
 
@@ -325,8 +324,9 @@ private:
 
     int priority(const json& v, const std::string& path) const {
         if (!v.is_number_integer()) fail(path, "expected an integer");
-        const bool inRange = v.is_number_unsigned() ? v.get<std::uint64_t>() <= std::uint64_t(INT_MAX)
-                                                    : v.get<std::int64_t>() >= INT_MIN && v.get<std::int64_t>() <= INT_MAX;
+        const bool inRange = v.is_number_unsigned()
+                                 ? v.get<std::uint64_t>() <= std::uint64_t(INT_MAX)
+                                 : v.get<std::int64_t>() >= INT_MIN && v.get<std::int64_t>() <= INT_MAX;
         if (!inRange) fail(path, "integer out of range");
         return int(v.get<std::int64_t>());
     }
@@ -348,8 +348,9 @@ private:
                 break;
             }
         if (groups.empty())
-            fail(path, "missing placement (give 'matrix', translate/rotate_deg/quaternion_wxyz/scale, or "
-                       "origin/target/up/size)");
+            fail(path,
+                 "missing placement (give 'matrix', translate/rotate_deg/quaternion_wxyz/scale, or "
+                 "origin/target/up/size)");
         if (groups.size() > 1)
             fail(path, fmt::format("conflicting placements '{}' and '{}' (give one of: matrix, "
                                    "translate/rotate_deg/quaternion_wxyz/scale, origin/target/up/size)",
@@ -386,7 +387,8 @@ private:
         if (j.contains("rotate_deg") && j.contains("quaternion_wxyz"))
             fail(path, "give either 'rotate_deg' or 'quaternion_wxyz', not both");
         glm::dmat3 r(1.0);
-        if (j.contains("rotate_deg")) r = scene_detail::rotationFromEulerXyzDegrees(vec3(j.at("rotate_deg"), path + ".rotate_deg"));
+        if (j.contains("rotate_deg"))
+            r = scene_detail::rotationFromEulerXyzDegrees(vec3(j.at("rotate_deg"), path + ".rotate_deg"));
         if (j.contains("quaternion_wxyz")) r = quaternion(j.at("quaternion_wxyz"), path + ".quaternion_wxyz");
         const std::string spath = path + ".scale";
         const glm::dvec3 s = j.contains("scale") ? vec3OrScalar(j.at("scale"), spath) : glm::dvec3(1.0);
@@ -407,7 +409,8 @@ private:
     glm::dmat4 lookAtPlacement(const json& j, const std::string& path) const {
         for (const std::string& k : kLookAtKeys)
             if (!j.contains(k))
-                fail(path, fmt::format("look-at placement needs 'origin', 'target', 'up' and 'size' (missing '{}')", k));
+                fail(path,
+                     fmt::format("look-at placement needs 'origin', 'target', 'up' and 'size' (missing '{}')", k));
         const glm::dvec3 origin = vec3(j.at("origin"), path + ".origin");
         const glm::dvec3 target = vec3(j.at("target"), path + ".target");
         const glm::dvec3 up = vec3(j.at("up"), path + ".up");

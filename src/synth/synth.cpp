@@ -137,9 +137,11 @@ GBuffer render(const Scene& scene, const Camera& camera, const RenderOptions& op
                 continue;
             }
             const Material& m = scene.materials[std::size_t(hit.material)];
-            const glm::vec3 a = shadeAlbedo(m, p_world);
             glm::dvec3 nrm = hit.normal;
             if (glm::dot(nrm, dir) > 0) nrm = -nrm;  // face the camera
+            // checker cells from a point just inside the surface: on a plane through a cell
+            // boundary (the floor at z = 0) rounding would otherwise speckle the pattern
+            const glm::vec3 a = shadeAlbedo(m, p_world - nrm * 1e-6);
             for (int c = 0; c < 3; ++c) {
                 albedo.at(i, c) = a[c];
                 normal.at(i, c) = float(nrm[c]);

@@ -53,9 +53,12 @@ bool isIntegerFormat(const OIIO::TypeDesc& t) { return !t.is_floating_point(); }
 // Whether the stored colour still has to be multiplied by alpha.
 bool needsPremultiply(const OIIO::ImageSpec& spec, AlphaMode mode) {
     switch (mode) {
-        case AlphaMode::Straight: return true;
-        case AlphaMode::Premultiplied: return false;
-        case AlphaMode::Auto: break;
+        case AlphaMode::Straight:
+            return true;
+        case AlphaMode::Premultiplied:
+            return false;
+        case AlphaMode::Auto:
+            break;
     }
     // 8/16-bit formats (PNG, TGA...) carry straight alpha by convention; OpenEXR is premultiplied
     // unless the file says otherwise (the Blender samples write decal:alpha = "straight").
@@ -114,8 +117,8 @@ void checkSpec(const OIIO::ImageSpec& spec, const std::string& path) {
     if (spec.deep) throw inputError(fmt::format("'{}': deep images are not supported as textures", path));
     if (spec.depth > 1) throw inputError(fmt::format("'{}': 3D images are not supported as 2D textures", path));
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-        throw inputError(fmt::format("'{}': empty image ({}x{}, {} channels)", path, spec.width, spec.height,
-                                     spec.nchannels));
+        throw inputError(
+            fmt::format("'{}': empty image ({}x{}, {} channels)", path, spec.width, spec.height, spec.nchannels));
     if (std::int64_t(spec.width) * std::int64_t(spec.height) > kMaxTexels)
         throw inputError(fmt::format("'{}': image too large for a texture ({}x{})", path, spec.width, spec.height));
 }

@@ -203,7 +203,7 @@ void printHeadline(const std::vector<Result>& results, std::FILE* out) {
                        tests_binned > 0 ? tests_unbinned / tests_binned : 0.0);
         } else {
             fmt::print(out, "  {:>4} decals: unbinned / binned = n/a ({} not run or skipped)\n", n,
-                       !b && !u ? "neither" : !b ? "binned" : "unbinned");
+                       !b && !u ? "binned and unbinned" : !b ? "binned" : "unbinned");
         }
     }
     const Result* b1 = find(results, 1920, 1080, 1, true);
@@ -268,6 +268,11 @@ int main(int argc, char** argv) {
                    di.device.getInfo<CL_DEVICE_MAX_CLOCK_FREQUENCY>());
         fmt::print(info, "decals: {}-{} world units, {} textures of {}^2 texels, seed {}; repeat {} (median), 1 warm-up\n",
                    opt.min_size, opt.max_size, opt.texture_count, opt.texture_size, opt.seed, opt.repeat);
+        if (std::ifstream loadavg("/proc/loadavg"); loadavg) {
+            std::string line;
+            std::getline(loadavg, line);
+            fmt::print(info, "host load average (1/5/15 min, runnable/threads, last pid): {}\n", line);
+        }
         std::fflush(info);
 
         const auto build0 = std::chrono::steady_clock::now();
