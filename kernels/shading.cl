@@ -9,7 +9,8 @@ __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t de
                        __read_only image2d_t position_image, __read_only image2d_t albedo_in,
                        __global float4* albedo_out, __global const DcDecal* decals,
                        __global const DcTexture* textures, __global const float4* texels,
-                       __global const int* tile_offsets, __global const int* tile_decals, int binned) {
+                       __global const int* tile_offsets, __global const int* tile_decals, int binned,
+                       __global const float* mask_weights) {
     const int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame->width || y >= frame->height) return;
     float4 albedo = read_imagef(albedo_in, dc_pixel_sampler, (int2)(x, y));
@@ -29,8 +30,10 @@ __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t de
             const float4 texel =
                 dc_sample_2d(texels, textures[d->texture], local_point.x + 0.5f, 0.5f - local_point.y, d->filter);
             /* premultiplied texel: colour * f == texel.rgb * opacity */
-            const float f = clamp(texel.w * d->opacity, 0.0f, 1.0f);
-            albedo.xyz = albedo.xyz * (1.0f - f) + texel.xyz * d->opacity;
+            float weight = d->opacity;
+            if (d->mask >= 0) weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
+            const float f = clamp(texel.w * weight, 0.0f, 1.0f);
+            albedo.xyz = albedo.xyz * (1.0f - f) + texel.xyz * weight;
         }
     }
     albedo_out[y * frame->width + x] = albedo;

@@ -60,6 +60,8 @@ typedef struct {
     DC_INT filter;
     DC_INT texture; /* index into the texture table, -1 = none */
     DC_FLOAT opacity;
+    DC_INT mask; /* index of the frame's mask weight plane, -1 = none */
+    DC_INT pad0, pad1, pad2;
 } DcDecal;
 
 /* Where a texture's texels (float4, premultiplied linear RGBA, top row first) start. */

@@ -247,6 +247,35 @@ TEST(Kernels, BackgroundAndNoDecalPixelsPassThroughBitExact) {
               0);
 }
 
+TEST(Kernels, MaskWeightsMatchReference) {
+    RandomFrame f = makeRandomFrame(9);
+    DecalScene decals = makeRandomDecals(f, 9, 200);
+    // Two masks with smooth and hard per-pixel weights; every third decal uses one.
+    decals.masks = {DecalMask{{1}, {}, "", {}}, DecalMask{{}, {2}, "", {}}};
+    for (int m = 0; m < 2; ++m) {
+        Plane w{1, std::vector<float>(f.gbuffer.pixelCount())};
+        for (std::size_t i = 0; i < w.samples.size(); ++i)
+            w.samples[i] = m == 0 ? float(i % 7) / 6.0f : float((i / 13) % 2);
+        f.gbuffer.mask_weights.push_back(w);
+    }
+    for (std::size_t k = 0; k < decals.decals.size(); ++k) decals.decals[k].mask = k % 3 == 2 ? -1 : int(k % 3);
+    Compositor compositor(cpuDevice());
+    compositor.setScene(decals);
+    GBuffer out = f.gbuffer;
+    compositor.composite(out, f.camera);
+    const auto ref = reference::shade(f.gbuffer, f.camera, decals, roundingMargin(f.gbuffer));
+    const Comparison c = compareWithReference(f.gbuffer, out, ref, kAlbedoTolerance);
+    EXPECT_EQ(c.mismatched, 0u) << "max error " << c.max_error;
+    // Without the masks the result must differ: the weights really reach the kernel.
+    GBuffer unmasked = f.gbuffer;
+    for (auto& d : decals.decals) d.mask = -1;
+    decals.masks.clear();
+    unmasked.mask_weights.clear();
+    compositor.setScene(decals);
+    compositor.composite(unmasked, f.camera);
+    EXPECT_NE(unmasked.planes.at(Attribute::Albedo).samples, out.planes.at(Attribute::Albedo).samples);
+}
+
 TEST(Kernels, DataWindowOffsetMatchesReference) {
     RandomFrame f = makeRandomFrame(6);
     // Pretend the frame is a crop of a larger display window.

@@ -19,6 +19,16 @@ struct Texture2D {
     std::vector<glm::vec4> texels;
 };
 
+// Which surfaces a decal may touch. Evaluated per frame into a weight plane (1 = full effect),
+// so antialiased Cryptomatte coverage gives antialiased decal edges.
+struct DecalMask {
+    std::vector<int> include_ids;  // object-id pass values the decal affects (empty = all)
+    std::vector<int> exclude_ids;  // object-id pass values it never affects
+    std::string cryptomatte_layer;               // e.g. "CryptoObject"; empty = no Cryptomatte
+    std::vector<std::string> cryptomatte_names;  // names or wildcards ("Wall*")
+    bool operator==(const DecalMask&) const = default;
+};
+
 struct Decal {
     std::string name;
     DecalKind kind = DecalKind::Box;
@@ -26,11 +36,13 @@ struct Decal {
     int albedo_texture = -1;       // index into DecalScene::textures, -1 = none
     float opacity = 1.0f;          // in [0,1]
     TextureFilter filter = TextureFilter::Linear;
+    int mask = -1;  // index into DecalScene::masks, -1 = no mask
 };
 
 struct DecalScene {
     std::vector<Texture2D> textures;
     std::vector<Decal> decals;  // in blend order
+    std::vector<DecalMask> masks;  // distinct masks the decals refer to
 };
 
 // True when M is invertible with a usable condition (not degenerate to float precision).

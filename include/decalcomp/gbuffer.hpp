@@ -37,6 +37,8 @@ struct GBuffer {
     DepthConvention depth_convention = DepthConvention::Planar;
     bool reversed_z = false;                    // only for DepthConvention::Ndc
     std::map<Attribute, Plane> planes;
+    // One single-component weight plane per DecalScene::masks entry, evaluated for this frame.
+    std::vector<Plane> mask_weights;
 
     bool has(Attribute a) const { return planes.count(a) != 0; }
     std::size_t pixelCount() const { return std::size_t(width) * std::size_t(height); }

@@ -48,12 +48,24 @@ cl::Image2D placeholderImage(cl::Context& context, int channels) {
     return makeImage(context, 1, 1, channels, std::vector<float>(std::size_t(channels), 0.0f));
 }
 
+// All mask weight planes back to back, one float per pixel each.
+std::vector<float> packMaskWeights(const GBuffer& frame, std::size_t count) {
+    std::vector<float> out;
+    out.reserve(count * frame.pixelCount());
+    for (const Plane& plane : frame.mask_weights) {
+        if (plane.components != 1 || plane.samples.size() != frame.pixelCount())
+            throw inputError("decal masks: a weight plane does not match the frame size");
+        out.insert(out.end(), plane.samples.begin(), plane.samples.end());
+    }
+    return out;
+}
+
 }  // namespace
 
 struct Compositor::State {
     cl::Kernel tile_bounds, decal_bounds, bin_count, bin_fill, shade;
     cl::Buffer texture_table, texels;
-    std::size_t decal_count = 0;
+    std::size_t mask_count = 0;
     DecalScene scene;  // decals only; textures live on the device
     // last frame's binning, kept for lastBinning()
     cl::Buffer tile_depth, tile_offsets, tile_decals;
@@ -89,7 +101,11 @@ void Compositor::setScene(const DecalScene& scene) {
     } catch (const cl::Error& e) {
         throw deviceError(fmt::format("{}: uploading decal textures: {}", device_.info().name, clErrorName(e.err())));
     }
+    for (const Decal& d : scene.decals)
+        if (d.mask >= int(scene.masks.size()))
+            throw inputError(fmt::format("decal '{}': mask index {} out of range", d.name, d.mask));
     state_->scene.decals = scene.decals;
+    state_->mask_count = scene.masks.size();
     state_->scene.textures.clear();
 }
 
@@ -101,6 +117,9 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     if (!uses_position && !frame.has(Attribute::Depth)) throw inputError("G-buffer has no depth pass");
     if (frame.width <= 0 || frame.height <= 0 || frame.display_width <= 0 || frame.display_height <= 0)
         throw inputError("G-buffer has an empty data or display window");
+    if (frame.mask_weights.size() != state_->mask_count)
+        throw inputError(fmt::format("decal masks: the frame has {} weight planes, the scene {} masks",
+                                     frame.mask_weights.size(), state_->mask_count));
 
     State& s = *state_;
     cl::Context& context = device_.context();
@@ -127,6 +146,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         cl::Image2D albedo_in = makeImage(context, frame.width, frame.height, 4, imagePixels(albedo, pixels, 4));
         cl::Buffer albedo_out(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
         cl::Buffer decal_buffer = makeBuffer(context, CL_MEM_READ_ONLY, decals);
+        cl::Buffer mask_buffer = makeBuffer(context, CL_MEM_READ_ONLY, packMaskWeights(frame, s.mask_count));
 
         s.tile_depth = cl::Buffer(context, CL_MEM_READ_WRITE, std::size_t(tiles) * sizeof(cl_float2));
         s.tile_offsets = cl::Buffer(context, CL_MEM_READ_WRITE, std::size_t(tiles + 1) * sizeof(cl_int));
@@ -202,6 +222,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         s.shade.setArg(8, s.tile_offsets);
         s.shade.setArg(9, s.tile_decals);
         s.shade.setArg(10, cl_int(options.binned && !decals.empty() ? 1 : 0));
+        s.shade.setArg(11, mask_buffer);
         queue.enqueueNDRangeKernel(s.shade, cl::NullRange, cl::NDRange(std::size_t(frame.width), std::size_t(frame.height)),
                                    cl::NullRange, nullptr, &e_shade);
         std::vector<float> result(pixels * 4);

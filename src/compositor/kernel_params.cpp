@@ -62,6 +62,7 @@ std::vector<cl_types::DcDecal> makeDecalParams(const DecalScene& scene, const Ca
         d.filter = decal.filter == TextureFilter::Nearest ? DC_FILTER_NEAREST : DC_FILTER_LINEAR;
         d.texture = decal.albedo_texture;
         d.opacity = decal.opacity;
+        d.mask = decal.mask;
         out.push_back(d);
     }
     return out;

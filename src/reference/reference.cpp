@@ -173,9 +173,11 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                         result.ambiguous[i] = 1;
                 }
                 const glm::dvec4 texel = sampleTexture(texture, s, t, decal.filter);
-                const double f = std::clamp(texel.a * decal.opacity, 0.0, 1.0);
-                // straight colour is texel.rgb / alpha; blending by f = alpha * opacity
-                albedo = albedo * (1.0 - f) + glm::dvec3(texel) * double(decal.opacity);
+                double weight = decal.opacity;
+                if (decal.mask >= 0) weight *= frame.mask_weights[std::size_t(decal.mask)].at(i, 0);
+                const double f = std::clamp(texel.a * weight, 0.0, 1.0);
+                // straight colour is texel.rgb / alpha; blending by f = alpha * weight
+                albedo = albedo * (1.0 - f) + glm::dvec3(texel) * weight;
             }
             for (int c = 0; c < 3; ++c) result.albedo.at(i, c) = float(albedo[c]);
         }
