@@ -78,51 +78,121 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
     bounds[id] = b;
 }
 
-inline bool dc_overlaps(DcDecalBounds b, int tx, int ty, float2 tile_depth) {
-    return tx >= b.tile_x0 && tx <= b.tile_x1 && ty >= b.tile_y0 && ty <= b.tile_y1 &&
-           b.depth_min <= tile_depth.y && b.depth_max >= tile_depth.x;
+/* Binning runs at two levels, both keeping decal order: coarse tiles (DC_COARSE x DC_COARSE
+ * tiles) test every decal; then each tile tests only its coarse tile's list. Tile ranges are
+ * inclusive and in tile units at both levels. */
+#define DC_COARSE 4
+
+inline bool dc_overlaps(DcDecalBounds b, int tx0, int ty0, int tx1, int ty1, float2 depth) {
+    return tx1 >= b.tile_x0 && tx0 <= b.tile_x1 && ty1 >= b.tile_y0 && ty0 <= b.tile_y1 &&
+           b.depth_min <= depth.y && b.depth_max >= depth.x;
 }
 
-/* Decals per tile, staged through local_point memory in chunks shared by the work-group. */
-#define DC_BIN_CHUNK 64
+inline int dc_coarse_tiles_x(__constant const DcFrame* f) { return (f->tiles_x + DC_COARSE - 1) / DC_COARSE; }
+inline int dc_coarse_tiles_y(__constant const DcFrame* f) { return (f->tiles_y + DC_COARSE - 1) / DC_COARSE; }
+
+/* Depth range of each coarse tile from its tiles' ranges. */
+__kernel void dc_coarse_depth(__constant const DcFrame* frame, __global const float2* tile_depth,
+                              __global float2* coarse_depth) {
+    const int c = get_global_id(0);
+    const int cx_count = dc_coarse_tiles_x(frame);
+    if (c >= cx_count * dc_coarse_tiles_y(frame)) return;
+    const int cx = c % cx_count, cy = c / cx_count;
+    float2 r = (float2)(MAXFLOAT, -MAXFLOAT);
+    for (int ty = cy * DC_COARSE; ty < min(frame->tiles_y, (cy + 1) * DC_COARSE); ++ty)
+        for (int tx = cx * DC_COARSE; tx < min(frame->tiles_x, (cx + 1) * DC_COARSE); ++tx) {
+            const float2 t = tile_depth[ty * frame->tiles_x + tx];
+            r = (float2)(fmin(r.x, t.x), fmax(r.y, t.y));
+        }
+    coarse_depth[c] = r;
+}
+
+/* Level 1 in three data-parallel steps, ordered by construction: decals are split into chunks of
+ * 64; one work-item per (coarse tile, chunk) sets a bit per overlapping decal; per coarse tile the
+ * chunk popcounts are prefix-summed; then each (coarse tile, chunk) writes its set bits in order. */
+inline int dc_decal_chunks(__constant const DcFrame* f) { return (f->decal_count + 63) / 64; }
+
+__kernel void dc_coarse_mask(__constant const DcFrame* frame, __global const DcDecalBounds* bounds,
+                             __global const float2* coarse_depth, __global ulong* masks) {
+    const int chunks = dc_decal_chunks(frame);
+    const int cx_count = dc_coarse_tiles_x(frame);
+    const int item = get_global_id(0);
+    if (item >= cx_count * dc_coarse_tiles_y(frame) * chunks) return;
+    const int c = item / chunks, k = item % chunks;
+    const float2 range = coarse_depth[c];
+    const int tx0 = (c % cx_count) * DC_COARSE, ty0 = (c / cx_count) * DC_COARSE;
+    ulong bits = 0;
+    if (range.x <= range.y) {
+        const int first = k * 64, last = min(frame->decal_count, first + 64);
+        for (int d = first; d < last; ++d)
+            if (dc_overlaps(bounds[d], tx0, ty0, tx0 + DC_COARSE - 1, ty0 + DC_COARSE - 1, range))
+                bits |= (ulong)1 << (d - first);
+    }
+    masks[item] = bits;
+}
+
+/* Per coarse tile: where each chunk's entries start within the tile's list, and the list length. */
+__kernel void dc_coarse_count(__constant const DcFrame* frame, __global const ulong* masks,
+                              __global int* chunk_starts, __global int* counts) {
+    const int chunks = dc_decal_chunks(frame);
+    const int c = get_global_id(0);
+    if (c >= dc_coarse_tiles_x(frame) * dc_coarse_tiles_y(frame)) return;
+    int n = 0;
+    for (int k = 0; k < chunks; ++k) {
+        chunk_starts[c * chunks + k] = n;
+        n += (int)popcount(masks[c * chunks + k]);
+    }
+    counts[c] = n;
+}
+
+__kernel void dc_coarse_fill(__constant const DcFrame* frame, __global const ulong* masks,
+                             __global const int* chunk_starts, __global const int* offsets,
+                             __global int* lists) {
+    const int chunks = dc_decal_chunks(frame);
+    const int item = get_global_id(0);
+    if (item >= dc_coarse_tiles_x(frame) * dc_coarse_tiles_y(frame) * chunks) return;
+    const int c = item / chunks, k = item % chunks;
+    ulong bits = masks[item];
+    int next = offsets[c] + chunk_starts[item];
+    while (bits != 0) {
+        const int bit = (int)(63 - clz(bits & (~bits + 1))); /* lowest set bit */
+        lists[next++] = k * 64 + bit;
+        bits &= bits - 1;
+    }
+}
+
+/* Level 2: one work-item per tile over its coarse tile's list. With `write` 0 it only counts. */
+inline int dc_tile_bin(__constant const DcFrame* frame, __global const DcDecalBounds* bounds,
+                       __global const float2* tile_depth, __global const int* coarse_offsets,
+                       __global const int* coarse_lists, int tile, int write, __global int* out) {
+    const float2 range = tile_depth[tile];
+    if (!(range.x <= range.y)) return 0;
+    const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x;
+    const int c = (ty / DC_COARSE) * dc_coarse_tiles_x(frame) + tx / DC_COARSE;
+    int n = 0;
+    for (int k = coarse_offsets[c]; k < coarse_offsets[c + 1]; ++k) {
+        const int d = coarse_lists[k];
+        if (dc_overlaps(bounds[d], tx, ty, tx, ty, range)) {
+            if (write) out[n] = d;
+            ++n;
+        }
+    }
+    return n;
+}
 
 __kernel void dc_bin_count(__constant const DcFrame* frame, __global const DcDecalBounds* bounds,
-                           __global const float2* tile_depth, __global int* counts) {
-    __local DcDecalBounds chunk[DC_BIN_CHUNK];
+                           __global const float2* tile_depth, __global const int* coarse_offsets,
+                           __global const int* coarse_lists, __global int* counts) {
     const int tile = get_global_id(0);
-    const int tile_count = frame->tiles_x * frame->tiles_y;
-    const bool active = tile < tile_count;
-    const float2 range = active ? tile_depth[tile] : (float2)(MAXFLOAT, -MAXFLOAT);
-    const int tx = active ? tile % frame->tiles_x : 0, ty = active ? tile / frame->tiles_x : 0;
-    int count = 0;
-    for (int base = 0; base < frame->decal_count; base += DC_BIN_CHUNK) {
-        const int n = min(DC_BIN_CHUNK, frame->decal_count - base);
-        barrier(CLK_LOCAL_MEM_FENCE);
-        for (int i = get_local_id(0); i < n; i += get_local_size(0)) chunk[i] = bounds[base + i];
-        barrier(CLK_LOCAL_MEM_FENCE);
-        if (active && range.x <= range.y)
-            for (int i = 0; i < n; ++i) count += dc_overlaps(chunk[i], tx, ty, range) ? 1 : 0;
-    }
-    if (active) counts[tile] = count;
+    if (tile >= frame->tiles_x * frame->tiles_y) return;
+    counts[tile] = dc_tile_bin(frame, bounds, tile_depth, coarse_offsets, coarse_lists, tile, 0, 0);
 }
 
 __kernel void dc_bin_fill(__constant const DcFrame* frame, __global const DcDecalBounds* bounds,
-                          __global const float2* tile_depth, __global const int* offsets,
+                          __global const float2* tile_depth, __global const int* coarse_offsets,
+                          __global const int* coarse_lists, __global const int* offsets,
                           __global int* tile_decals) {
-    __local DcDecalBounds chunk[DC_BIN_CHUNK];
     const int tile = get_global_id(0);
-    const int tile_count = frame->tiles_x * frame->tiles_y;
-    const bool active = tile < tile_count;
-    const float2 range = active ? tile_depth[tile] : (float2)(MAXFLOAT, -MAXFLOAT);
-    const int tx = active ? tile % frame->tiles_x : 0, ty = active ? tile / frame->tiles_x : 0;
-    int next = active ? offsets[tile] : 0;
-    for (int base = 0; base < frame->decal_count; base += DC_BIN_CHUNK) {
-        const int n = min(DC_BIN_CHUNK, frame->decal_count - base);
-        barrier(CLK_LOCAL_MEM_FENCE);
-        for (int i = get_local_id(0); i < n; i += get_local_size(0)) chunk[i] = bounds[base + i];
-        barrier(CLK_LOCAL_MEM_FENCE);
-        if (active && range.x <= range.y)
-            for (int i = 0; i < n; ++i)
-                if (dc_overlaps(chunk[i], tx, ty, range)) tile_decals[next++] = base + i;
-    }
+    if (tile >= frame->tiles_x * frame->tiles_y) return;
+    dc_tile_bin(frame, bounds, tile_depth, coarse_offsets, coarse_lists, tile, 1, tile_decals + offsets[tile]);
 }

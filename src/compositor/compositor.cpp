@@ -13,6 +13,7 @@ namespace decalcomp {
 namespace {
 
 constexpr int kBinGroupSize = 64;  // work-items per group in the binning kernels
+constexpr int kCoarse = 4;          // DC_COARSE in kernels/binning.cl: tiles per coarse tile side
 
 std::size_t roundUp(std::size_t n, std::size_t multiple) { return (n + multiple - 1) / multiple * multiple; }
 
@@ -20,6 +21,22 @@ double eventMs(const cl::Event& e) {
     const auto start = e.getProfilingInfo<CL_PROFILING_COMMAND_START>();
     const auto end = e.getProfilingInfo<CL_PROFILING_COMMAND_END>();
     return double(end - start) * 1e-6;
+}
+
+// Exclusive prefix sum of `n` device counts, with the total appended. Done on the host: the
+// total sizes the list buffer, so lists have no cap and never drop a decal.
+std::vector<int> prefixSum(cl::CommandQueue& queue, const cl::Buffer& counts, std::size_t n) {
+    std::vector<int> values(n, 0);
+    queue.enqueueReadBuffer(counts, CL_TRUE, 0, n * sizeof(int), values.data());
+    std::vector<int> offsets(n + 1, 0);
+    std::int64_t total = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        offsets[i] = int(total);
+        total += values[i];
+        if (total > INT32_MAX) throw deviceError("binning: more than 2^31 tile-decal pairs");
+    }
+    offsets[n] = int(total);
+    return offsets;
 }
 
 // A buffer of at least one element: OpenCL refuses zero-sized buffers.
@@ -63,7 +80,7 @@ std::vector<float> packMaskWeights(const GBuffer& frame, std::size_t count) {
 }  // namespace
 
 struct Compositor::State {
-    cl::Kernel tile_bounds, decal_bounds, bin_count, bin_fill, shade;
+    cl::Kernel tile_bounds, decal_bounds, coarse_depth, coarse_mask, coarse_count, coarse_fill, bin_count, bin_fill, shade;
     cl::Buffer texture_table, texels;
     std::size_t mask_count = 0;
     DecalScene scene;  // decals only; textures live on the device
@@ -79,6 +96,10 @@ Compositor::Compositor(ComputeDevice& device) : device_(device), state_(std::mak
     try {
         state_->tile_bounds = cl::Kernel(program, "dc_tile_bounds");
         state_->decal_bounds = cl::Kernel(program, "dc_decal_bounds");
+        state_->coarse_depth = cl::Kernel(program, "dc_coarse_depth");
+        state_->coarse_mask = cl::Kernel(program, "dc_coarse_mask");
+        state_->coarse_count = cl::Kernel(program, "dc_coarse_count");
+        state_->coarse_fill = cl::Kernel(program, "dc_coarse_fill");
         state_->bin_count = cl::Kernel(program, "dc_bin_count");
         state_->bin_fill = cl::Kernel(program, "dc_bin_fill");
         state_->shade = cl::Kernel(program, "dc_shade");
@@ -170,37 +191,69 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             queue.enqueueNDRangeKernel(s.decal_bounds, cl::NullRange, cl::NDRange(roundUp(decals.size(), kBinGroupSize)),
                                        cl::NDRange(kBinGroupSize), nullptr, &e_bounds);
 
+            // Level 1: coarse tiles against every decal.
+            const int coarse_x = (params.tiles_x + kCoarse - 1) / kCoarse, coarse_y = (params.tiles_y + kCoarse - 1) / kCoarse;
+            const std::size_t coarse = std::size_t(coarse_x) * coarse_y;
+            const cl::NDRange coarse_range(roundUp(coarse, kBinGroupSize));
+            cl::Buffer coarse_depth(context, CL_MEM_READ_WRITE, coarse * sizeof(cl_float2));
+            const std::size_t chunks = (decals.size() + 63) / 64;  // decals per mask word
+            cl::Buffer coarse_counts(context, CL_MEM_READ_WRITE, coarse * sizeof(cl_int));
+            cl::Buffer masks(context, CL_MEM_READ_WRITE, coarse * chunks * sizeof(cl_ulong));
+            cl::Buffer chunk_starts(context, CL_MEM_READ_WRITE, coarse * chunks * sizeof(cl_int));
+            const cl::NDRange pair_range(roundUp(coarse * chunks, kBinGroupSize));
+            cl::Event e_cdepth, e_cmask, e_ccount, e_cfill;
+            s.coarse_depth.setArg(0, frame_buffer);
+            s.coarse_depth.setArg(1, s.tile_depth);
+            s.coarse_depth.setArg(2, coarse_depth);
+            queue.enqueueNDRangeKernel(s.coarse_depth, cl::NullRange, coarse_range, cl::NullRange, nullptr, &e_cdepth);
+            s.coarse_mask.setArg(0, frame_buffer);
+            s.coarse_mask.setArg(1, bounds);
+            s.coarse_mask.setArg(2, coarse_depth);
+            s.coarse_mask.setArg(3, masks);
+            queue.enqueueNDRangeKernel(s.coarse_mask, cl::NullRange, pair_range, cl::NullRange, nullptr, &e_cmask);
+            s.coarse_count.setArg(0, frame_buffer);
+            s.coarse_count.setArg(1, masks);
+            s.coarse_count.setArg(2, chunk_starts);
+            s.coarse_count.setArg(3, coarse_counts);
+            queue.enqueueNDRangeKernel(s.coarse_count, cl::NullRange, coarse_range, cl::NullRange, nullptr, &e_ccount);
+            const std::vector<int> coarse_offsets = prefixSum(queue, coarse_counts, coarse);
+            cl::Buffer coarse_offset_buffer = makeBuffer(context, CL_MEM_READ_ONLY, coarse_offsets);
+            cl::Buffer coarse_lists(context, CL_MEM_READ_WRITE, std::size_t(std::max(coarse_offsets.back(), 1)) * sizeof(cl_int));
+            s.coarse_fill.setArg(0, frame_buffer);
+            s.coarse_fill.setArg(1, masks);
+            s.coarse_fill.setArg(2, chunk_starts);
+            s.coarse_fill.setArg(3, coarse_offset_buffer);
+            s.coarse_fill.setArg(4, coarse_lists);
+            queue.enqueueNDRangeKernel(s.coarse_fill, cl::NullRange, pair_range, cl::NullRange, nullptr, &e_cfill);
+
+            // Level 2: each tile against its coarse tile's list.
             cl::Buffer counts(context, CL_MEM_READ_WRITE, std::size_t(tiles) * sizeof(cl_int));
             const cl::NDRange tile_range(roundUp(std::size_t(tiles), kBinGroupSize));
             s.bin_count.setArg(0, frame_buffer);
             s.bin_count.setArg(1, bounds);
             s.bin_count.setArg(2, s.tile_depth);
-            s.bin_count.setArg(3, counts);
-            queue.enqueueNDRangeKernel(s.bin_count, cl::NullRange, tile_range, cl::NDRange(kBinGroupSize), nullptr, &e_count);
-
-            // Exclusive prefix sum on the host: the total sizes the list buffer, so no cap exists.
-            std::vector<int> tile_counts(std::size_t(tiles), 0);
-            queue.enqueueReadBuffer(counts, CL_TRUE, 0, tile_counts.size() * sizeof(int), tile_counts.data());
-            std::int64_t total = 0;
-            for (int t = 0; t < tiles; ++t) {
-                offsets[std::size_t(t)] = int(total);
-                total += tile_counts[std::size_t(t)];
-                if (total > INT32_MAX) throw deviceError("binning: more than 2^31 tile-decal pairs");
-            }
-            offsets[std::size_t(tiles)] = int(total);
+            s.bin_count.setArg(3, coarse_offset_buffer);
+            s.bin_count.setArg(4, coarse_lists);
+            s.bin_count.setArg(5, counts);
+            queue.enqueueNDRangeKernel(s.bin_count, cl::NullRange, tile_range, cl::NullRange, nullptr, &e_count);
+            offsets = prefixSum(queue, counts, std::size_t(tiles));
+            const std::int64_t total = offsets.back();
             s.bin_entries = total;
             queue.enqueueWriteBuffer(s.tile_offsets, CL_FALSE, 0, offsets.size() * sizeof(int), offsets.data());
             s.tile_decals = cl::Buffer(context, CL_MEM_READ_WRITE, std::size_t(std::max<std::int64_t>(total, 1)) * sizeof(cl_int));
             s.bin_fill.setArg(0, frame_buffer);
             s.bin_fill.setArg(1, bounds);
             s.bin_fill.setArg(2, s.tile_depth);
-            s.bin_fill.setArg(3, s.tile_offsets);
-            s.bin_fill.setArg(4, s.tile_decals);
-            queue.enqueueNDRangeKernel(s.bin_fill, cl::NullRange, tile_range, cl::NDRange(kBinGroupSize), nullptr, &e_fill);
+            s.bin_fill.setArg(3, coarse_offset_buffer);
+            s.bin_fill.setArg(4, coarse_lists);
+            s.bin_fill.setArg(5, s.tile_offsets);
+            s.bin_fill.setArg(6, s.tile_decals);
+            queue.enqueueNDRangeKernel(s.bin_fill, cl::NullRange, tile_range, cl::NullRange, nullptr, &e_fill);
             queue.finish();
             stats.tile_bounds_ms = eventMs(e_tiles);
-            stats.binning_ms = eventMs(e_bounds) + eventMs(e_count) + eventMs(e_fill);
-            stats.bin_entries = total;
+            stats.binning_ms = eventMs(e_bounds) + eventMs(e_cdepth) + eventMs(e_cmask) + eventMs(e_ccount) + eventMs(e_cfill) +
+                               eventMs(e_count) + eventMs(e_fill);
+            stats.bin_entries = s.bin_entries;
             s.tiles_x = params.tiles_x;
             s.tiles_y = params.tiles_y;
             s.has_binning = true;
