@@ -31,8 +31,15 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
 
     float3 corner[8];
     float w[8];
+    __global const DcDecal* d = &decals[id];
     for (int i = 0; i < 8; ++i) {
-        const float3 local_point = (float3)((i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 4) ? 0.5f : -0.5f);
+        /* corners of the decal's volume in local space, bit 0: x, bit 1: y, bit 2: z / near-far */
+        float3 local_point = (float3)((i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 4) ? 0.5f : -0.5f);
+        if (d->kind == DC_KIND_FRUSTUM) {
+            const float dist = (i & 4) ? d->far_plane : d->near_plane;
+            const float half_h = dist * d->tan_half_fov_y;
+            local_point = (float3)((i & 1) ? half_h * d->aspect : -half_h * d->aspect, (i & 2) ? half_h : -half_h, -dist);
+        }
         corner[i] = dc_affine_global(m, local_point);
         w[i] = dc_clip_w(frame, corner[i]) - (frame->orthographic ? 0.0f : DC_MIN_VIEW_DEPTH);
     }

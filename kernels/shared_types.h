@@ -21,6 +21,9 @@ namespace decalcomp::cl_types {
 #define DC_DEPTH_POSITION 3
 
 #define DC_KIND_BOX 0
+#define DC_KIND_VOLUME 1
+#define DC_KIND_FRUSTUM 2
+#define DC_KIND_CUBE 3
 
 /* Screen tiles are DC_TILE_SIZE square; the tile kernel runs one work-group per tile. */
 #define DC_TILE_SIZE 16
@@ -48,8 +51,9 @@ typedef struct {
     DC_INT orthographic;
     DC_INT tiles_x, tiles_y;
     DC_INT decal_count;
-    DC_INT has_depth; /* 0: position convention without a depth pass */
-    DC_INT pad0, pad1;
+    DC_INT has_depth;  /* 0: position convention without a depth pass */
+    DC_INT has_normal; /* a world-space normal image is bound (angle fades) */
+    DC_INT pad0;
 } DcFrame;
 
 /* One decal, prepared on the host in double precision. */
@@ -61,6 +65,14 @@ typedef struct {
     DC_INT texture; /* index into the texture table, -1 = none */
     DC_FLOAT opacity;
     DC_INT mask; /* index of the frame's mask weight plane, -1 = none */
+    /* frustum: tan(fov_y / 2), aspect, near, far in local units */
+    DC_FLOAT tan_half_fov_y, aspect, near_plane, far_plane;
+    /* box/volume: camera-space unit vector of local +Z, the normal of surfaces facing the decal */
+    DC_FLOAT facing_axis[3];
+    /* angle fade in radians from the facing direction: full up to [0], none from [1]; off if [1] <= 0 */
+    DC_FLOAT angle_fade[2];
+    DC_FLOAT axis_fade;       /* box/volume: faded fraction of the half-depth at both z ends; 0 = off */
+    DC_FLOAT distance_fade[2]; /* frustum: fade from distance [0] to [1]; off if [1] <= 0 */
     DC_INT pad0, pad1, pad2;
 } DcDecal;
 
@@ -68,7 +80,7 @@ typedef struct {
 typedef struct {
     DC_INT offset;
     DC_INT width, height;
-    DC_INT pad;
+    DC_INT depth; /* slices: 1 for 2D, D for a volume, 6 for a cube */
 } DcTexture;
 
 /* A decal's conservative screen footprint: inclusive tile range and planar depth range. */

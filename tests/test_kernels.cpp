@@ -51,6 +51,65 @@ RandomFrame makeRandomFrame(std::uint32_t seed) {
     return f;
 }
 
+// Random premultiplied texels: alpha in [0,1], colour <= alpha.
+Texture2D randomTexture(int width, int height, int depth, std::mt19937& rng) {
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    Texture2D t;
+    t.source = "random";
+    t.width = width;
+    t.height = height;
+    t.depth = depth;
+    for (int i = 0; i < width * height * depth; ++i) {
+        const float a = u(rng);
+        t.texels.emplace_back(u(rng) * a, u(rng) * a, u(rng) * a, a);
+    }
+    return t;
+}
+
+// Turns scattered box decals into every kind, and switches fades on at random.
+void convertKinds(DecalScene& scene, const RandomFrame& f, std::uint32_t seed) {
+    std::mt19937 rng(seed * 31 + 7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), u01(0.0, 1.0);
+    const int volume = int(scene.textures.size());
+    scene.textures.push_back(randomTexture(6, 6, 5, rng));
+    const int cube = int(scene.textures.size());
+    scene.textures.push_back(randomTexture(7, 7, 6, rng));
+    const bool normals = f.gbuffer.has(Attribute::Normal);
+    for (std::size_t k = 0; k < scene.decals.size(); ++k) {
+        Decal& d = scene.decals[k];
+        // scattered decals are centred on pixel centres: move them off, or the frustum's and the
+        // cube's centre rays would sit exactly on texel edges and on the cube's singular centre
+        const glm::dvec3 centre = glm::dvec3(d.world_matrix[3]) + glm::dvec3(u(rng), u(rng), u(rng)) * 0.05;
+        switch (k % 4) {
+            case 1:
+                d.kind = DecalKind::Volume;
+                d.albedo_texture = volume;
+                break;
+            case 2: {
+                // a rigid projector a few units from the surface point, looking at it
+                d.kind = DecalKind::Frustum;
+                const glm::dvec3 origin = centre + glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)) + 1e-6) * (1.0 + 4.0 * u01(rng));
+                d.world_matrix = glm::inverse(lookAt(origin, centre, glm::dvec3(u(rng), u(rng), 1.0)));
+                d.fov_y_deg = 15.0 + 60.0 * u01(rng);
+                d.aspect = 0.5 + 1.5 * u01(rng);
+                d.near = 0.05 + 0.5 * u01(rng);
+                d.far = glm::length(origin - centre) * (1.0 + u01(rng));
+                if (k % 8 == 2) d.distance_fade = {d.far * 0.3, d.far * 0.9};
+                break;
+            }
+            case 3:
+                d.kind = DecalKind::Cube;
+                d.albedo_texture = cube;
+                d.world_matrix[3] = glm::dvec4(centre, 1.0);
+                break;
+            default:
+                break;
+        }
+        if (normals && k % 3 == 0) d.angle_fade_deg = {10.0 + 30.0 * u01(rng), 50.0 + 60.0 * u01(rng)};
+        if (k % 5 == 0) d.axis_fade = 0.2 + 0.6 * u01(rng);
+    }
+}
+
 // Hundreds of decals: scattered on surfaces plus the hard cases, all in one scene.
 DecalScene makeRandomDecals(const RandomFrame& f, std::uint32_t seed, int count) {
     synth::ScatterOptions scatter;
@@ -79,6 +138,7 @@ DecalScene makeRandomDecals(const RandomFrame& f, std::uint32_t seed, int count)
         m = glm::rotate(m, u(rng) * 3.0, glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)) + 1e-6));
         return glm::scale(m, size);
     };
+    convertKinds(scene, f, seed);
     add("camera_inside", rotated(eye, glm::dvec3(6.0, 5.0, 7.0)));
     add("crossing_near_plane", rotated(eye + forward * 0.3, glm::dvec3(2.0, 2.0, 2.0)));
     add("behind_camera", rotated(eye - forward * 4.0, glm::dvec3(1.5)));
@@ -111,7 +171,9 @@ Comparison compareWithReference(const GBuffer& input, const GBuffer& output, con
         double error = 0;
         for (int ch = 0; ch < 3; ++ch) error = std::max(error, double(std::abs(out.at(i, ch) - ref.albedo.at(i, ch))));
         c.max_error = std::max(c.max_error, error);
-        if (error > tolerance) ++c.mismatched;
+        if (error > tolerance) {
+            ++c.mismatched;
+        }
     }
     return c;
 }
@@ -120,8 +182,12 @@ Comparison compareWithReference(const GBuffer& input, const GBuffer& output, con
 // precision with distance, so its reconstructed positions are far less exact.
 double roundingMargin(const GBuffer& g) { return g.depth_convention == DepthConvention::Ndc ? 5e-6 : 5e-7; }
 
-// Tolerance: blending hundreds of decals in float vs double drifts far less than this.
-constexpr double kAlbedoTolerance = 2e-4;
+// Tolerance: float vs double over hundreds of blends, bilinear weights and fade ramps drifts far
+// less than this; hardware (ndc) depth reconstructs positions less exactly, so it gets more.
+constexpr double kAlbedoTolerance = 1e-3;
+double albedoTolerance(const GBuffer& g) { return g.depth_convention == DepthConvention::Ndc ? 5e-3 : kAlbedoTolerance; }
+// Share of pixels allowed within rounding of a decision (box face, texel edge, cube face).
+double ambiguousShare(const GBuffer& g) { return g.depth_convention == DepthConvention::Ndc ? 0.25 : 0.10; }
 
 class RandomScenes : public ::testing::TestWithParam<std::uint32_t> {};
 
@@ -133,11 +199,12 @@ TEST_P(RandomScenes, BinnedKernelMatchesReference) {
     GBuffer out = f.gbuffer;
     compositor.composite(out, f.camera);
     const auto ref = reference::shade(f.gbuffer, f.camera, decals, roundingMargin(f.gbuffer));
-    const Comparison c = compareWithReference(f.gbuffer, out, ref, kAlbedoTolerance);
+    const Comparison c = compareWithReference(f.gbuffer, out, ref, albedoTolerance(f.gbuffer));
     EXPECT_EQ(c.mismatched, 0u) << "max error " << c.max_error << " over " << c.compared << " pixels";
     // Each nearest decal centred on a surface point puts that pixel exactly on a texel edge, so a
     // few percent of pixels are legitimately ambiguous; more would make the comparison hollow.
-    EXPECT_LT(double(c.ambiguous), 0.10 * double(f.gbuffer.pixelCount())) << "too many boundary pixels to be meaningful";
+    EXPECT_LT(double(c.ambiguous), ambiguousShare(f.gbuffer) * double(f.gbuffer.pixelCount()))
+        << "too many boundary pixels to be meaningful";
     EXPECT_GT(double(c.changed), 0.05 * double(f.gbuffer.pixelCount())) << "scene decals too few pixels to test";
 }
 
@@ -202,7 +269,7 @@ TEST_P(RandomScenes, BinningIsConservativeAndOrdered) {
     }
     EXPECT_GT(needed, 0u);
     // Conservative but useful: the bins must not degenerate to "every decal everywhere".
-    EXPECT_LE(listed, 2 * needed + exact.size());
+    EXPECT_LE(listed, 3 * needed + exact.size());
 }
 
 INSTANTIATE_TEST_SUITE_P(Kernels, RandomScenes, ::testing::Range(1u, 13u));
@@ -264,7 +331,7 @@ TEST(Kernels, MaskWeightsMatchReference) {
     GBuffer out = f.gbuffer;
     compositor.composite(out, f.camera);
     const auto ref = reference::shade(f.gbuffer, f.camera, decals, roundingMargin(f.gbuffer));
-    const Comparison c = compareWithReference(f.gbuffer, out, ref, kAlbedoTolerance);
+    const Comparison c = compareWithReference(f.gbuffer, out, ref, albedoTolerance(f.gbuffer));
     EXPECT_EQ(c.mismatched, 0u) << "max error " << c.max_error;
     // Without the masks the result must differ: the weights really reach the kernel.
     GBuffer unmasked = f.gbuffer;
@@ -288,8 +355,8 @@ TEST(Kernels, DataWindowOffsetMatchesReference) {
     compositor.setScene(decals);
     GBuffer out = f.gbuffer;
     compositor.composite(out, f.camera);
-    const auto ref = reference::shade(f.gbuffer, f.camera, decals);
-    const Comparison c = compareWithReference(f.gbuffer, out, ref, kAlbedoTolerance);
+    const auto ref = reference::shade(f.gbuffer, f.camera, decals, roundingMargin(f.gbuffer));
+    const Comparison c = compareWithReference(f.gbuffer, out, ref, albedoTolerance(f.gbuffer));
     EXPECT_EQ(c.mismatched, 0u) << "max error " << c.max_error;
 }
 

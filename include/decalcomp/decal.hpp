@@ -1,23 +1,33 @@
 #pragma once
 // Decals and their textures as the compositor consumes them (already validated and decoded).
 #include <glm/glm.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace decalcomp {
 
-enum class DecalKind { Box };
+enum class DecalKind { Box, Volume, Frustum, Cube };
 enum class TextureFilter { Nearest, Linear };
 
 const char* decalKindName(DecalKind k);
 const char* textureFilterName(TextureFilter f);
 
 // RGBA texels in scene-linear colour with premultiplied alpha, row 0 = the image's top row.
+// `depth` > 1 holds that many width x height slices back to back: the slices of a volume
+// (slice k covers r in [k/depth, (k+1)/depth]) or the six faces of a cube (+X,-X,+Y,-Y,+Z,-Z).
 struct Texture2D {
     std::string source;  // file it came from, for messages
-    int width = 0, height = 0;
+    int width = 0, height = 0, depth = 1;
     std::vector<glm::vec4> texels;
 };
+
+// A vertical strip of square slices (width W, height D*W) viewed as a W x W x D volume.
+Texture2D volumeFromStrip(Texture2D strip);
+// A horizontal strip of six square faces (+X,-X,+Y,-Y,+Z,-Z; width 6N, height N) as a cube.
+Texture2D cubeFromStrip(const Texture2D& strip);
+// Six face images in +X,-X,+Y,-Y,+Z,-Z order, all N x N, as a cube.
+Texture2D cubeFromFaces(const std::vector<Texture2D>& faces);
 
 // Which surfaces a decal may touch. Evaluated per frame into a weight plane (1 = full effect),
 // so antialiased Cryptomatte coverage gives antialiased decal edges.
@@ -29,6 +39,13 @@ struct DecalMask {
     bool operator==(const DecalMask&) const = default;
 };
 
+// A placement at one frame of a decal's animation (scene key "keyframes").
+struct DecalKeyframe {
+    double frame = 0.0;
+    glm::dmat4 world_matrix{1.0};
+};
+enum class KeyframeInterpolation { Linear, Step };
+
 struct Decal {
     std::string name;
     DecalKind kind = DecalKind::Box;
@@ -37,6 +54,23 @@ struct Decal {
     float opacity = 1.0f;          // in [0,1]
     TextureFilter filter = TextureFilter::Linear;
     int mask = -1;  // index into DecalScene::masks, -1 = no mask
+
+    // ---- kind parameters and fades (docs/conventions.md "Decals"); fades are off by default.
+    double fov_y_deg = 60.0, aspect = 1.0, near = 0.1, far = 10.0;  // frustum
+    // Angle fade: full effect while the surface normal is within angle_fade_deg[0] of the decal's
+    // projection axis, none beyond angle_fade_deg[1]; back-facing surfaces never receive it.
+    // Needs a normal pass. Off when angle_fade_deg[1] <= 0.
+    glm::dvec2 angle_fade_deg{0.0, 0.0};
+    double axis_fade = 0.0;  // box/volume: fraction of the half-depth faded at both ends of local Z
+    glm::dvec2 distance_fade{0.0, 0.0};  // frustum: fade from distance [0] to [1]; off when [1] <= 0
+
+    // ---- over time (batch sequences, docs/scene-format.md "Animation"); the defaults mean a
+    // static decal alive on every frame. sceneAtFrame() evaluates these; the compositor ignores them.
+    std::optional<double> first_frame, last_frame;  // lifetime, inclusive ("frames": [first, last])
+    double fade_in_frames = 0.0, fade_out_frames = 0.0;  // linear opacity ramps inside the lifetime
+    std::vector<DecalKeyframe> keyframes;  // increasing frames; when set, world_matrix = first key's
+    KeyframeInterpolation keyframe_interpolation = KeyframeInterpolation::Linear;
+    bool isAnimated() const { return first_frame || last_frame || !keyframes.empty(); }
 };
 
 struct DecalScene {
@@ -44,6 +78,15 @@ struct DecalScene {
     std::vector<Decal> decals;  // in blend order
     std::vector<DecalMask> masks;  // distinct masks the decals refer to
 };
+
+// The scene as it is at `frame`: decals outside their lifetime are left out, the others get their
+// keyframed placement (translation and scale/shear linear, rotation along the shortest arc) and
+// their opacity times the fade factor. Textures and masks are kept; order is kept.
+DecalScene sceneAtFrame(const DecalScene& scene, double frame);
+// The same for the decal list alone (no texture copy), and for one decal (nullopt = not alive).
+std::vector<Decal> decalsAtFrame(const std::vector<Decal>& decals, double frame);
+std::optional<Decal> decalAtFrame(const Decal& decal, double frame);
+bool isAnimated(const DecalScene& scene);  // any decal with a lifetime or keyframes
 
 // True when M is invertible with a usable condition (not degenerate to float precision).
 bool isInvertibleDecalMatrix(const glm::dmat4& m);

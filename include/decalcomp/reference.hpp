@@ -24,12 +24,24 @@ struct DepthRange {
 // Planar view depth range of each tile_size x tile_size tile, row-major over tiles.
 std::vector<DepthRange> tileDepthRanges(const GBuffer& frame, const Camera& camera, int tile_size);
 
+// Whether a decal-local point lies inside the decal's volume (per kind).
+bool insideDecal(const Decal& decal, const glm::dvec3& local);
+
 // Exact bins: decal d is listed for tile t iff some pixel of t lies inside d (in scene order).
 std::vector<std::vector<int>> exactBins(const GBuffer& frame, const Camera& camera, const DecalScene& scene,
                                         int tile_size);
 
-// Filtered texture lookup with (s, t) as in docs/conventions.md; premultiplied RGBA.
+// Filtered texture lookups as in docs/conventions.md; premultiplied RGBA.
 glm::dvec4 sampleTexture(const Texture2D& texture, double s, double t, TextureFilter filter);
+glm::dvec4 sampleVolume(const Texture2D& texture, double s, double t, double r, TextureFilter filter);
+glm::dvec4 sampleCube(const Texture2D& texture, const glm::dvec3& direction, TextureFilter filter);
+
+// The OpenGL cube-map rule: face (+X,-X,+Y,-Y,+Z,-Z = 0..5) and (s, t) of a direction.
+struct CubeLookup {
+    int face = 0;
+    double s = 0, t = 0;
+};
+CubeLookup cubeLookup(const glm::dvec3& direction);
 
 struct ShadeResult {
     Plane albedo;

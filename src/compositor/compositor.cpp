@@ -146,7 +146,11 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     cl::Context& context = device_.context();
     cl::CommandQueue& queue = device_.queue();
     const auto decals = makeDecalParams(s.scene, camera);
-    const cl_types::DcFrame params = makeFrameParams(frame, camera, int(decals.size()));
+    cl_types::DcFrame params = makeFrameParams(frame, camera, int(decals.size()));
+    // Normals are read only for angle fades: skip their upload otherwise.
+    const bool angle_fades = std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
+                                         [](const Decal& d) { return d.angle_fade_deg[1] > 0.0; });
+    if (!angle_fades) params.has_normal = 0;
     const std::size_t pixels = frame.pixelCount();
     const int tiles = params.tiles_x * params.tiles_y;
 
@@ -163,6 +167,9 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         cl::Image2D position = uses_position ? makeImage(context, frame.width, frame.height, 4,
                                                          imagePixels(frame.planes.at(Attribute::Position), pixels, 4))
                                              : placeholderImage(context, 4);
+        cl::Image2D normal = params.has_normal ? makeImage(context, frame.width, frame.height, 4,
+                                                           imagePixels(frame.planes.at(Attribute::Normal), pixels, 4))
+                                               : placeholderImage(context, 4);
         Plane& albedo = frame.planes.at(Attribute::Albedo);
         cl::Image2D albedo_in = makeImage(context, frame.width, frame.height, 4, imagePixels(albedo, pixels, 4));
         cl::Buffer albedo_out(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
@@ -267,15 +274,16 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         s.shade.setArg(0, frame_buffer);
         s.shade.setArg(1, depth);
         s.shade.setArg(2, position);
-        s.shade.setArg(3, albedo_in);
-        s.shade.setArg(4, albedo_out);
-        s.shade.setArg(5, decal_buffer);
-        s.shade.setArg(6, s.texture_table);
-        s.shade.setArg(7, s.texels);
-        s.shade.setArg(8, s.tile_offsets);
-        s.shade.setArg(9, s.tile_decals);
-        s.shade.setArg(10, cl_int(options.binned && !decals.empty() ? 1 : 0));
-        s.shade.setArg(11, mask_buffer);
+        s.shade.setArg(3, normal);
+        s.shade.setArg(4, albedo_in);
+        s.shade.setArg(5, albedo_out);
+        s.shade.setArg(6, decal_buffer);
+        s.shade.setArg(7, s.texture_table);
+        s.shade.setArg(8, s.texels);
+        s.shade.setArg(9, s.tile_offsets);
+        s.shade.setArg(10, s.tile_decals);
+        s.shade.setArg(11, cl_int(options.binned && !decals.empty() ? 1 : 0));
+        s.shade.setArg(12, mask_buffer);
         queue.enqueueNDRangeKernel(s.shade, cl::NullRange, cl::NDRange(std::size_t(frame.width), std::size_t(frame.height)),
                                    cl::NullRange, nullptr, &e_shade);
         std::vector<float> result(pixels * 4);

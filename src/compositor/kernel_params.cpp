@@ -13,6 +13,16 @@ void storeRowMajor(const glm::dmat4& m, float* out, int rows) {
         for (int c = 0; c < 4; ++c) out[r * 4 + c] = float(m[c][r]);
 }
 
+int kindCode(DecalKind k) {
+    switch (k) {
+        case DecalKind::Box: return DC_KIND_BOX;
+        case DecalKind::Volume: return DC_KIND_VOLUME;
+        case DecalKind::Frustum: return DC_KIND_FRUSTUM;
+        case DecalKind::Cube: return DC_KIND_CUBE;
+    }
+    return DC_KIND_BOX;
+}
+
 int conventionCode(DepthConvention c) {
     switch (c) {
         case DepthConvention::Planar: return DC_DEPTH_PLANAR;
@@ -47,6 +57,7 @@ cl_types::DcFrame makeFrameParams(const GBuffer& frame, const Camera& camera, in
     f.tiles_y = tileCount(frame.height);
     f.decal_count = decal_count;
     f.has_depth = frame.has(Attribute::Depth) ? 1 : 0;
+    f.has_normal = frame.has(Attribute::Normal) ? 1 : 0;
     return f;
 }
 
@@ -58,11 +69,22 @@ std::vector<cl_types::DcDecal> makeDecalParams(const DecalScene& scene, const Ca
         cl_types::DcDecal d{};
         storeRowMajor(glm::inverse(decal.world_matrix) * camera_to_world, d.camera_to_local, 3);
         storeRowMajor(camera.world_to_camera * decal.world_matrix, d.local_to_camera, 3);
-        d.kind = DC_KIND_BOX;
+        d.kind = kindCode(decal.kind);
         d.filter = decal.filter == TextureFilter::Nearest ? DC_FILTER_NEAREST : DC_FILTER_LINEAR;
         d.texture = decal.albedo_texture;
         d.opacity = decal.opacity;
         d.mask = decal.mask;
+        d.tan_half_fov_y = float(std::tan(glm::radians(decal.fov_y_deg) / 2.0));
+        d.aspect = float(decal.aspect);
+        d.near_plane = float(decal.near);
+        d.far_plane = float(decal.far);
+        const glm::dvec3 facing = glm::normalize(glm::dvec3(camera.world_to_camera * decal.world_matrix[2]));
+        for (int i = 0; i < 3; ++i) d.facing_axis[i] = float(facing[i]);
+        d.angle_fade[0] = float(glm::radians(decal.angle_fade_deg[0]));
+        d.angle_fade[1] = float(glm::radians(decal.angle_fade_deg[1]));
+        d.axis_fade = float(decal.axis_fade);
+        d.distance_fade[0] = float(decal.distance_fade[0]);
+        d.distance_fade[1] = float(decal.distance_fade[1]);
         out.push_back(d);
     }
     return out;
@@ -75,9 +97,10 @@ PackedTextures packTextures(const std::vector<Texture2D>& textures) {
     if (total > std::size_t(INT32_MAX)) throw inputError("decal textures: more than 2^31 texels in total");
     packed.texels.reserve(total * 4);
     for (const auto& t : textures) {
-        if (t.width <= 0 || t.height <= 0 || t.texels.size() != std::size_t(t.width) * std::size_t(t.height))
+        if (t.width <= 0 || t.height <= 0 || t.depth <= 0 ||
+            t.texels.size() != std::size_t(t.width) * std::size_t(t.height) * std::size_t(t.depth))
             throw inputError(t.source + ": texture has no texels");
-        packed.table.push_back({int(packed.texels.size() / 4), t.width, t.height, 0});
+        packed.table.push_back({int(packed.texels.size() / 4), t.width, t.height, t.depth});
         for (const auto& texel : t.texels) packed.texels.insert(packed.texels.end(), {texel.r, texel.g, texel.b, texel.a});
     }
     return packed;

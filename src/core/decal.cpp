@@ -7,6 +7,9 @@ namespace decalcomp {
 const char* decalKindName(DecalKind k) {
     switch (k) {
         case DecalKind::Box: return "box";
+        case DecalKind::Volume: return "volume";
+        case DecalKind::Frustum: return "frustum";
+        case DecalKind::Cube: return "cube";
     }
     return "?";
 }

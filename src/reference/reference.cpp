@@ -94,6 +94,21 @@ std::vector<DepthRange> tileDepthRanges(const GBuffer& frame, const Camera& came
     return ranges;
 }
 
+// Whether local point l lies in the decal's volume (docs/conventions.md "Decals").
+bool insideDecal(const Decal& decal, const glm::dvec3& l) {
+    switch (decal.kind) {
+        case DecalKind::Box:
+        case DecalKind::Volume: return std::abs(l.x) <= 0.5 && std::abs(l.y) <= 0.5 && std::abs(l.z) <= 0.5;
+        case DecalKind::Cube: return glm::length(l) <= 0.5;
+        case DecalKind::Frustum: {
+            const double dist = -l.z, half_h = dist * std::tan(glm::radians(decal.fov_y_deg) / 2.0);
+            return dist >= decal.near && dist <= decal.far && std::abs(l.x) <= half_h * decal.aspect &&
+                   std::abs(l.y) <= half_h;
+        }
+    }
+    return false;
+}
+
 std::vector<std::vector<int>> exactBins(const GBuffer& frame, const Camera& camera, const DecalScene& scene,
                                         int tile_size) {
     const int tiles_x = (frame.width + tile_size - 1) / tile_size;
@@ -107,8 +122,7 @@ std::vector<std::vector<int>> exactBins(const GBuffer& frame, const Camera& came
             if (!p) continue;
             auto& tile = hit[std::size_t(y / tile_size) * tiles_x + x / tile_size];
             for (std::size_t k = 0; k < scene.decals.size(); ++k) {
-                const glm::dvec3 l(world_to_local[k] * glm::dvec4(*p, 1.0));
-                if (std::abs(l.x) <= 0.5 && std::abs(l.y) <= 0.5 && std::abs(l.z) <= 0.5) tile[k] = 1;
+                if (insideDecal(scene.decals[k], glm::dvec3(world_to_local[k] * glm::dvec4(*p, 1.0)))) tile[k] = 1;
             }
         }
     std::vector<std::vector<int>> bins(hit.size());
@@ -118,11 +132,14 @@ std::vector<std::vector<int>> exactBins(const GBuffer& frame, const Camera& came
     return bins;
 }
 
-glm::dvec4 sampleTexture(const Texture2D& texture, double s, double t, TextureFilter filter) {
+namespace {
+
+glm::dvec4 sampleSlice(const Texture2D& texture, double s, double t, long slice, TextureFilter filter) {
+    slice = std::clamp<long>(slice, 0, texture.depth - 1);
     auto texel = [&](long i, long j) {
         i = std::clamp<long>(i, 0, texture.width - 1);
         j = std::clamp<long>(j, 0, texture.height - 1);
-        return glm::dvec4(texture.texels[std::size_t(j) * texture.width + std::size_t(i)]);
+        return glm::dvec4(texture.texels[(std::size_t(slice) * texture.height + std::size_t(j)) * texture.width + std::size_t(i)]);
     };
     const double x = std::clamp(s * texture.width, -1.0, double(texture.width) + 1.0);
     const double y = std::clamp(t * texture.height, -1.0, double(texture.height) + 1.0);
@@ -135,6 +152,138 @@ glm::dvec4 sampleTexture(const Texture2D& texture, double s, double t, TextureFi
            (texel(i, j + 1) * (1 - ax) + texel(i + 1, j + 1) * ax) * ay;
 }
 
+}  // namespace
+
+glm::dvec4 sampleTexture(const Texture2D& texture, double s, double t, TextureFilter filter) {
+    return sampleSlice(texture, s, t, 0, filter);
+}
+
+glm::dvec4 sampleVolume(const Texture2D& texture, double s, double t, double r, TextureFilter filter) {
+    const double z = std::clamp(r * texture.depth, -1.0, double(texture.depth) + 1.0);
+    if (filter == TextureFilter::Nearest) return sampleSlice(texture, s, t, long(std::floor(z)), filter);
+    const double fz = z - 0.5;
+    const long k = long(std::floor(fz));
+    const double a = fz - k;
+    return sampleSlice(texture, s, t, k, filter) * (1 - a) + sampleSlice(texture, s, t, k + 1, filter) * a;
+}
+
+CubeLookup cubeLookup(const glm::dvec3& d) {
+    const glm::dvec3 a = glm::abs(d);
+    CubeLookup c;
+    double sc, tc, ma;
+    if (a.x >= a.y && a.x >= a.z) {  // ties: x before y before z
+        c.face = d.x >= 0 ? 0 : 1;
+        ma = a.x;
+        sc = d.x >= 0 ? -d.z : d.z;
+        tc = -d.y;
+    } else if (a.y >= a.z) {
+        c.face = d.y >= 0 ? 2 : 3;
+        ma = a.y;
+        sc = d.x;
+        tc = d.y >= 0 ? d.z : -d.z;
+    } else {
+        c.face = d.z >= 0 ? 4 : 5;
+        ma = a.z;
+        sc = d.z >= 0 ? d.x : -d.x;
+        tc = -d.y;
+    }
+    c.s = 0.5 * (sc / ma + 1.0);
+    c.t = 0.5 * (tc / ma + 1.0);
+    return c;
+}
+
+glm::dvec4 sampleCube(const Texture2D& texture, const glm::dvec3& direction, TextureFilter filter) {
+    const CubeLookup c = cubeLookup(direction);
+    return sampleSlice(texture, c.s, c.t, c.face, filter);
+}
+
+namespace {
+
+// 1 up to `full`, 0 from `none`, linear between.
+double rampDown(double x, double full, double none) { return std::clamp((none - x) / (none - full), 0.0, 1.0); }
+
+struct DecalSample {
+    glm::dvec4 colour{0.0};  // premultiplied, alpha scaled by falloff and fades
+    bool ambiguous = false;
+};
+
+// One decal at world point P: the conventions of docs/conventions.md written out in double.
+DecalSample sampleDecal(const Decal& decal, const glm::dmat4& world_to_local, const Texture2D* texture,
+                        const glm::dvec3& P, const std::optional<glm::dvec3>& normal, double slack) {
+    DecalSample out;
+    const glm::dvec3 l(world_to_local * glm::dvec4(P, 1.0));
+    double fade = 1.0;
+    auto nearEdge = [&](double coord, int size) {
+        const double x = coord * size;
+        return decal.filter == TextureFilter::Nearest && std::abs(x - std::round(x)) <= slack * size;
+    };
+    auto angleFade = [&](const glm::dvec3& facing) {
+        if (!normal || decal.angle_fade_deg[1] <= 0.0) return 1.0;
+        const double c = glm::dot(*normal, facing);
+        if (std::abs(c) <= 1e-4) out.ambiguous = true;  // the back-face cut is a step
+        if (c <= 0.0) return 0.0;
+        const double angle = std::acos(std::min(c, 1.0));
+        return rampDown(angle, glm::radians(decal.angle_fade_deg[0]), glm::radians(decal.angle_fade_deg[1]));
+    };
+    switch (decal.kind) {
+        case DecalKind::Box:
+        case DecalKind::Volume: {
+            const double extent = std::max({std::abs(l.x), std::abs(l.y), std::abs(l.z)});
+            out.ambiguous = std::abs(extent - 0.5) <= slack;
+            if (extent > 0.5 || !texture) return out;
+            if (decal.axis_fade > 0.0) fade *= std::clamp((0.5 - std::abs(l.z)) / (0.5 * decal.axis_fade), 0.0, 1.0);
+            fade *= angleFade(glm::normalize(glm::dvec3(decal.world_matrix[2])));
+            const double s = l.x + 0.5, t = 0.5 - l.y, r = l.z + 0.5;
+            out.ambiguous |= nearEdge(s, texture->width) || nearEdge(t, texture->height);
+            if (decal.kind == DecalKind::Box) {
+                out.colour = sampleTexture(*texture, s, t, decal.filter);
+            } else {
+                out.ambiguous |= nearEdge(r, texture->depth);
+                out.colour = sampleVolume(*texture, s, t, r, decal.filter);
+            }
+            break;
+        }
+        case DecalKind::Frustum: {
+            const double dist = -l.z;
+            const double half_h = dist * std::tan(glm::radians(decal.fov_y_deg) / 2.0), half_w = half_h * decal.aspect;
+            const double edge_slack = 2.0 * slack;  // both sides of each comparison carry rounding
+            out.ambiguous = std::abs(dist - decal.near) <= edge_slack || std::abs(dist - decal.far) <= edge_slack ||
+                            std::abs(std::abs(l.x) - half_w) <= edge_slack || std::abs(std::abs(l.y) - half_h) <= edge_slack;
+            if (!(dist >= decal.near && dist <= decal.far && std::abs(l.x) <= half_w && std::abs(l.y) <= half_h) || !texture)
+                return out;
+            if (decal.distance_fade[1] > 0.0) fade *= rampDown(dist, decal.distance_fade[0], decal.distance_fade[1]);
+            fade *= angleFade(glm::normalize(glm::dvec3(decal.world_matrix[3]) - P));
+            const double s = 0.5 + l.x / (2.0 * half_w), t = 0.5 - l.y / (2.0 * half_h);
+            out.ambiguous |= nearEdge(s, texture->width) || nearEdge(t, texture->height);
+            out.colour = sampleTexture(*texture, s, t, decal.filter);
+            break;
+        }
+        case DecalKind::Cube: {
+            const double r = glm::length(l);
+            out.ambiguous = std::abs(r - 0.5) <= slack;
+            if (r > 0.5 || !texture || r == 0.0) return out;
+            fade *= std::clamp(1.0 - r / 0.5, 0.0, 1.0);
+            fade *= angleFade(glm::normalize(glm::dvec3(decal.world_matrix[3]) - P));
+            // the direction's rounding error grows as the point nears the centre
+            const double direction_slack = slack / r;
+            const glm::dvec3 a = glm::abs(l / r);
+            const double hi = std::max({a.x, a.y, a.z});
+            const double mid = a.x + a.y + a.z - hi - std::min({a.x, a.y, a.z});
+            out.ambiguous |= hi - mid <= direction_slack;  // face choice
+            const CubeLookup c = cubeLookup(l / r);
+            if (decal.filter == TextureFilter::Nearest)
+                for (const auto& [coord, size] : {std::pair{c.s, texture->width}, std::pair{c.t, texture->height}})
+                    out.ambiguous |= std::abs(coord * size - std::round(coord * size)) <= direction_slack * size;
+            out.colour = sampleCube(*texture, l / r, decal.filter);
+            break;
+        }
+    }
+    out.colour *= fade;
+    return out;
+}
+
+}  // namespace
+
 ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& scene, double margin) {
     ShadeResult result;
     result.albedo = frame.planes.at(Attribute::Albedo);
@@ -143,41 +292,38 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
     std::vector<double> scale;  // how far rounding can move a local coordinate, per unit of |P|
     for (const Decal& d : scene.decals) {
         world_to_local.push_back(glm::inverse(d.world_matrix));
+        const glm::dmat4& w = world_to_local.back();
         double row_norm = 0;
-        for (int r = 0; r < 3; ++r)
-            row_norm = std::max(row_norm, std::abs(world_to_local.back()[0][r]) + std::abs(world_to_local.back()[1][r]) +
-                                              std::abs(world_to_local.back()[2][r]));
+        for (int r = 0; r < 3; ++r) row_norm = std::max(row_norm, std::abs(w[0][r]) + std::abs(w[1][r]) + std::abs(w[2][r]));
         scale.push_back(row_norm);
     }
+    const bool has_normal = frame.has(Attribute::Normal);
     const glm::dvec3 camera_position(glm::inverse(camera.world_to_camera)[3]);
     for (int y = 0; y < frame.height; ++y)
         for (int x = 0; x < frame.width; ++x) {
             const auto p = pixelWorldPoint(frame, camera, x, y);
             if (!p) continue;
             const std::size_t i = std::size_t(y) * frame.width + x;
+            std::optional<glm::dvec3> normal;
+            if (has_normal) {
+                const Plane& n = frame.planes.at(Attribute::Normal);
+                normal = glm::normalize(glm::dvec3(n.at(i, 0), n.at(i, 1), n.at(i, 2)));
+            }
             glm::dvec3 albedo(result.albedo.at(i, 0), result.albedo.at(i, 1), result.albedo.at(i, 2));
             for (std::size_t k = 0; k < scene.decals.size(); ++k) {
                 const Decal& decal = scene.decals[k];
-                const glm::dvec3 l(world_to_local[k] * glm::dvec4(*p, 1.0));
                 // the kernels work in camera space: their error grows with the distance to the camera
                 const double slack = margin * scale[k] * (1.0 + glm::length(*p - camera_position));
-                const double extent = std::max({std::abs(l.x), std::abs(l.y), std::abs(l.z)});
-                if (std::abs(extent - 0.5) <= slack) result.ambiguous[i] = 1;
-                if (extent > 0.5 || decal.albedo_texture < 0) continue;
-                const Texture2D& texture = scene.textures[std::size_t(decal.albedo_texture)];
-                const double s = l.x + 0.5, t = 0.5 - l.y;
-                if (decal.filter == TextureFilter::Nearest) {
-                    const double sx = s * texture.width, ty = t * texture.height;
-                    if (std::abs(sx - std::round(sx)) <= slack * texture.width ||
-                        std::abs(ty - std::round(ty)) <= slack * texture.height)
-                        result.ambiguous[i] = 1;
-                }
-                const glm::dvec4 texel = sampleTexture(texture, s, t, decal.filter);
+                const Texture2D* texture =
+                    decal.albedo_texture >= 0 ? &scene.textures[std::size_t(decal.albedo_texture)] : nullptr;
+                const DecalSample sample = sampleDecal(decal, world_to_local[k], texture, *p, normal, slack);
+                if (sample.ambiguous) result.ambiguous[i] = 1;
+                if (!(sample.colour.a > 0.0)) continue;
                 double weight = decal.opacity;
                 if (decal.mask >= 0) weight *= frame.mask_weights[std::size_t(decal.mask)].at(i, 0);
-                const double f = std::clamp(texel.a * weight, 0.0, 1.0);
-                // straight colour is texel.rgb / alpha; blending by f = alpha * weight
-                albedo = albedo * (1.0 - f) + glm::dvec3(texel) * weight;
+                const double f = std::clamp(sample.colour.a * weight, 0.0, 1.0);
+                // straight colour is colour.rgb / alpha; blending by f = alpha * weight
+                albedo = albedo * (1.0 - f) + glm::dvec3(sample.colour) * weight;
             }
             for (int c = 0; c < 3; ++c) result.albedo.at(i, c) = float(albedo[c]);
         }
