@@ -310,8 +310,17 @@ const ErrorCase kErrorCases[] = {
     {"DecalsNotArray", "{\"decals\": {}}", "decals: expected an array"},
     {"TopLevelTypo", "{\"decal\": [], \"decals\": []}", "decal: unknown key (did you mean 'decals'?)"},
     {"DecalNotObject", D("3"), "decals[0]: expected an object"},
-    {"UnsupportedKind", D("{" T ", \"scale\": 1}, {" T ", \"scale\": 1}, {\"kind\": \"frustum\", \"fov_y_deg\": 40}"),
-     "decals[2].kind: unsupported kind 'frustum' (supported: box)"},
+    {"UnsupportedKind", D("{" T ", \"scale\": 1}, {" T ", \"scale\": 1}, {\"kind\": \"spline\", \"fov_y_deg\": 40}"),
+     "decals[2].kind: unsupported kind 'spline' (supported: box, volume, frustum, cube)"},
+    {"FovOnBox", D("{" T ", \"scale\": 1, \"fov_y_deg\": 40}"), "decals[0].fov_y_deg: only frustum decals have this field"},
+    {"FrustumFarBeforeNear", D("{\"kind\": \"frustum\", " T ", \"scale\": 1, \"near\": 2, \"far\": 1}"),
+     "decals[0].far: expected a distance beyond 'near'"},
+    {"AngleFadeOrder", D("{" T ", \"scale\": 1, \"fade\": {\"angle_deg\": [80, 20]}}"),
+     "decals[0].fade.angle_deg: expected 0 <= start < end <= 180"},
+    {"DistanceFadeOnBox", D("{" T ", \"scale\": 1, \"fade\": {\"distance\": [1, 2]}}"),
+     "decals[0].fade.distance: only frustum decals have a distance fade"},
+    {"VolumeWithCubeTexture", D("{\"kind\": \"volume\", \"texture\": {\"cube\": \"x.png\"}, \"scale\": 1}"),
+     "decals[0].texture: a volume decal needs a volume texture"},
     {"KindNotString", D("{\"kind\": 1}"), "decals[0].kind: expected a string"},
     {"UnknownKey", D("{" T ", \"scale\": 1, \"opactiy\": 1}"),
      "decals[0].opactiy: unknown key (did you mean 'opacity'?)"},
@@ -431,6 +440,75 @@ TEST(SceneLoad, NeutralDescriptiveKeysAreIgnoredOnlyNextToWorldMatrix) {
         "location": [5,5,5], "scale": [9,9,9], "rotation_quaternion_wxyz": [1,0,0,0]}]})");
     const DecalScene s = loadScene(path);
     expectMatrixNear(s.decals[0].world_matrix, glm::dmat4(1.0));  // location/scale are notes only
+}
+
+}  // namespace
+}  // namespace decalcomp
+
+namespace decalcomp {
+namespace {
+
+// The kinds sample loads as it is: every kind, volume and cube textures re-sliced.
+TEST(SceneKinds, BlenderKindsSampleLoads) {
+    const DecalScene scene = loadScene(test::dataPath("blender-kinds/scene.json"));
+    ASSERT_EQ(scene.decals.size(), 7u);
+    int kinds[4] = {0, 0, 0, 0};
+    for (const Decal& d : scene.decals) {
+        ++kinds[int(d.kind)];
+        const Texture2D& t = scene.textures.at(std::size_t(d.albedo_texture));
+        if (d.kind == DecalKind::Volume) {
+            EXPECT_EQ(t.width, 32);
+            EXPECT_EQ(t.height, 32);
+            EXPECT_EQ(t.depth, 32);
+            EXPECT_EQ(d.filter, TextureFilter::Linear);
+        }
+        if (d.kind == DecalKind::Cube) {
+            EXPECT_EQ(t.depth, 6);
+            EXPECT_EQ(t.width, t.height);
+        }
+        if (d.kind == DecalKind::Frustum) {
+            EXPECT_DOUBLE_EQ(d.fov_y_deg, 40.0);
+            EXPECT_DOUBLE_EQ(d.aspect, 1.3);
+            EXPECT_DOUBLE_EQ(d.near, 0.2);
+            EXPECT_DOUBLE_EQ(d.far, 15.0);
+        }
+    }
+    EXPECT_EQ(kinds[int(DecalKind::Box)], 4);
+    EXPECT_EQ(kinds[int(DecalKind::Volume)], 1);
+    EXPECT_EQ(kinds[int(DecalKind::Frustum)], 1);
+    EXPECT_EQ(kinds[int(DecalKind::Cube)], 1);
+}
+
+// The cube strip and the six face files hold the same texels.
+TEST(SceneKinds, CubeStripEqualsFaces) {
+    test::ScratchDir dir;
+    const std::string kinds = test::dataPath("blender-kinds/");
+    std::ofstream(dir.file("s.json")) << R"({"decals": [
+        {"kind": "cube", "scale": 1, "texture": {"cube": ")" << kinds << R"(decal_floor_burst_strip.png"}},
+        {"kind": "cube", "scale": 1, "texture": {"cube_faces": [")" << kinds << R"(decal_floor_burst_+x.png", ")" << kinds
+                                      << R"(decal_floor_burst_-x.png", ")" << kinds << R"(decal_floor_burst_+y.png", ")"
+                                      << kinds << R"(decal_floor_burst_-y.png", ")" << kinds << R"(decal_floor_burst_+z.png", ")"
+                                      << kinds << R"(decal_floor_burst_-z.png"]}}]})";
+    const DecalScene scene = loadScene(dir.file("s.json"));
+    ASSERT_EQ(scene.textures.size(), 2u);
+    EXPECT_EQ(scene.textures[0].texels, scene.textures[1].texels);
+    EXPECT_EQ(scene.textures[0].depth, 6);
+}
+
+// A projector placed by origin/target/up is rigid, sits at origin and looks down -Z at target.
+TEST(SceneKinds, FrustumLookAtIsRigidProjector) {
+    test::ScratchDir dir;
+    std::ofstream(dir.file("f.json")) << R"({"decals": [{"kind": "frustum", "texture": ")"
+                                      << test::dataPath("blender/decal_ring.png")
+                                      << R"(", "origin": [1, 2, 3], "target": [1, 2, 0], "up": [0, 1, 0],
+        "fov_y_deg": 30, "near": 0.5, "far": 5, "fade": {"angle_deg": [30, 80], "distance": [2, 4]}}]})";
+    const DecalScene scene = loadScene(dir.file("f.json"));
+    const Decal& d = scene.decals.at(0);
+    EXPECT_NEAR(glm::length(glm::dvec3(d.world_matrix * glm::dvec4(0, 0, -3, 1)) - glm::dvec3(1, 2, 0)), 0.0, 1e-12);
+    EXPECT_NEAR(glm::length(glm::dvec3(d.world_matrix[3]) - glm::dvec3(1, 2, 3)), 0.0, 1e-12);
+    EXPECT_NEAR(glm::determinant(glm::dmat3(d.world_matrix)), 1.0, 1e-12);
+    EXPECT_EQ(d.angle_fade_deg, glm::dvec2(30, 80));
+    EXPECT_EQ(d.distance_fade, glm::dvec2(2, 4));
 }
 
 }  // namespace

@@ -14,4 +14,6 @@ if [ -f data/sample/gbuffer.exr ]; then
 fi
 ./build/decalcomp composite data/blender/gbuffer.exr --decals data/blender/scene.json \
   --camera data/blender/camera.json -o out/blender.exr --preview out/blender.png
+./build/decalcomp composite data/blender-kinds/gbuffer.exr --decals data/blender-kinds/scene.json \
+  --camera data/blender-kinds/camera.json -o out/blender-kinds.exr --preview out/blender-kinds.png
 echo "wrote: $(ls out/*.exr out/*.png | tr '\n' ' ')"

@@ -12,12 +12,16 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/scene.hpp"
 #include "decalcomp/textures.hpp"
+#include "scene/animation_json.hpp"
+#include "scene/kind_json.hpp"
+#include "scene/mask_json.hpp"
 #include "scene/placement.hpp"
 
 namespace decalcomp {
@@ -30,16 +34,20 @@ using scene_detail::composeTrs;
 // Keys a decal object may carry, and those that are ignored notes (not placement or look).
 const std::vector<std::string> kDecalKeys = {
     "name",   "kind",   "texture", "matrix", "world_matrix", "translate", "rotate_deg", "scale", "quaternion_wxyz",
-    "origin", "target", "up",      "size",   "opacity",      "filter",    "priority"};
+    "origin", "target", "up",      "size",   "opacity",      "filter",    "priority",
+    "frames", "fade_in", "fade_out", "keyframes", "keyframe_interpolation",  // animation_json.cpp
+    "mask",                                                                    // mask_json.cpp
+    "fov_y_deg", "aspect", "near", "far", "fade"};                             // kind_json.cpp
 const std::vector<std::string> kDecalNotes = {"description", "blender_object"};
 // Written by the neutral Blender export next to world_matrix; they restate it.
-const std::vector<std::string> kWorldMatrixNotes = {"location", "scale", "rotation_quaternion_wxyz"};
+const std::vector<std::string> kWorldMatrixNotes = {"location", "scale", "rotation_quaternion_wxyz",
+                                                    "volume_size", "texture_layout", "function", "faces"};
 const std::vector<std::string> kTopLevelKeys = {"format", "description", "textures",
                                                 "decals", "filter",      "interpolation"};
 const std::vector<std::string> kTrsKeys = {"translate", "rotate_deg", "quaternion_wxyz", "scale"};
 const std::vector<std::string> kLookAtKeys = {"origin", "target", "up", "size"};
 // Texture slots the format reserves for later kinds and attributes.
-const std::vector<std::string> kFutureTextureSlots = {"normal", "orm", "roughness", "volume", "cube"};
+const std::vector<std::string> kFutureTextureSlots = {"normal", "orm", "roughness", "emission"};
 
 bool contains(const std::vector<std::string>& list, const std::string& s) {
     return std::find(list.begin(), list.end(), s) != list.end();
@@ -112,7 +120,16 @@ struct TextureRequest {
     std::string albedo;    // as written in the file
     std::string jsonPath;  // where it was written, for messages
     AlphaMode alpha = AlphaMode::Auto;
+    scene_detail::TextureLayout layout = scene_detail::TextureLayout::Image;
+    std::vector<std::string> faces;  // cube faces +X,-X,+Y,-Y,+Z,-Z (layout CubeFaces)
 };
+
+TextureRequest imageRequest(std::string file, std::string json_path) {
+    TextureRequest request;
+    request.albedo = std::move(file);
+    request.jsonPath = std::move(json_path);
+    return request;
+}
 
 struct ParsedDecal {
     Decal decal;
@@ -140,6 +157,7 @@ public:
             parsed.push_back(parseDecal(decals[i], indexPath("decals", i), defaultFilter));
 
         DecalScene scene;
+        scene.masks = masks_;
         for (ParsedDecal& p : parsed) p.decal.albedo_texture = textureIndex(p.texture, scene);
         // Lower priority blends first; equal priorities keep file order (stable).
         std::stable_sort(parsed.begin(), parsed.end(),
@@ -152,7 +170,8 @@ private:
     std::string file_;
     fs::path dir_;
     std::map<std::string, TextureRequest> textureTable_;
-    std::map<std::pair<std::string, AlphaMode>, int> loaded_;  // (file, alpha) -> texture index
+    std::map<std::tuple<std::string, AlphaMode, scene_detail::TextureLayout>, int> loaded_;  // -> texture index
+    mutable std::vector<DecalMask> masks_;  // distinct masks, filled while parsing decals
 
     [[noreturn]] void fail(const std::string& path, const std::string& what) const {
         if (path.empty()) throw inputError(fmt::format("{}: {}", file_, what));
@@ -241,20 +260,32 @@ private:
 
     // "file.png" is shorthand for {"albedo": "file.png"}.
     TextureRequest parseTexture(const json& v, const std::string& path) const {
-        if (v.is_string()) return {nonEmptyPath(v, path), path, AlphaMode::Auto};
+        if (v.is_string()) return imageRequest(nonEmptyPath(v, path), path);
         if (!v.is_object()) fail(path, "expected an image path or an object like {\"albedo\": \"file.png\"}");
         TextureRequest request;
         for (const auto& [key, value] : v.items()) {
             const std::string child = keyPath(path, key);
-            if (key == "albedo") {
+            if (key == "albedo" || key == "volume" || key == "cube") {
+                if (!request.albedo.empty() || !request.faces.empty())
+                    fail(child, "give one of 'albedo', 'volume', 'cube', 'cube_faces'");
                 request.albedo = nonEmptyPath(value, child);
                 request.jsonPath = child;
+                request.layout = key == "volume" ? scene_detail::TextureLayout::VolumeStrip
+                                 : key == "cube" ? scene_detail::TextureLayout::CubeStrip
+                                                 : scene_detail::TextureLayout::Image;
+            } else if (key == "cube_faces") {
+                if (!request.albedo.empty()) fail(child, "give one of 'albedo', 'volume', 'cube', 'cube_faces'");
+                if (!value.is_array() || value.size() != 6) fail(child, "expected 6 image paths (+X,-X,+Y,-Y,+Z,-Z)");
+                for (size_t f = 0; f < 6; ++f) request.faces.push_back(nonEmptyPath(value[f], indexPath(child, f)));
+                request.albedo = request.faces[0];
+                request.jsonPath = child;
+                request.layout = scene_detail::TextureLayout::CubeFaces;
             } else if (key == "alpha") {
                 request.alpha = parseAlphaMode(value, child);
             } else if (contains(kFutureTextureSlots, key)) {
                 fail(child, "not supported yet (supported: albedo)");
             } else if (!isNoteKey(key)) {
-                fail(child, unknownKeyMessage(key, {"albedo", "alpha"}));
+                fail(child, unknownKeyMessage(key, {"albedo", "volume", "cube", "cube_faces", "alpha"}));
             }
         }
         if (request.albedo.empty()) fail(path, "missing 'albedo' (a box decal needs an albedo texture)");
@@ -280,17 +311,25 @@ private:
         // Kind first: fields of future kinds should read as "unsupported kind", not "unknown key".
         if (j.contains("kind")) {
             const std::string kind = string(j.at("kind"), path + ".kind");
-            if (kind != "box") fail(path + ".kind", fmt::format("unsupported kind '{}' (supported: box)", kind));
+            if (!scene_detail::kindFromName(kind))
+                fail(path + ".kind", fmt::format("unsupported kind '{}' (supported: box, volume, frustum, cube)", kind));
         }
         checkDecalKeys(j, path);
         ParsedDecal p;
-        p.decal.kind = DecalKind::Box;
+        p.decal.kind = j.contains("kind") ? *scene_detail::kindFromName(j.at("kind").get<std::string>()) : DecalKind::Box;
         p.decal.name = j.contains("name") ? string(j.at("name"), path + ".name") : path;
         p.texture = textureReference(j, path);
-        p.decal.world_matrix = placement(j, path);
+        if (!scene_detail::parseDecalAnimation(j, path, file_, [this](const json& v, const std::string& at) { return placement(v, at); }, p.decal))
+            p.decal.world_matrix = scene_detail::isProjectorLookAt(j, p.decal.kind)
+                                       ? scene_detail::projectorLookAt(j, path, file_)
+                                       : placement(j, path);
+        scene_detail::parseKindFields(j, path, file_, p.decal);
+        p.texture.layout = scene_detail::layoutForKind(p.decal.kind, p.texture.layout, path + ".texture", file_);
         if (j.contains("opacity")) p.decal.opacity = opacity(j.at("opacity"), path + ".opacity");
         p.decal.filter = j.contains("filter") ? parseFilter(j.at("filter"), path + ".filter") : defaultFilter;
         if (j.contains("priority")) p.priority = priority(j.at("priority"), path + ".priority");
+        if (j.contains("mask"))  // identical masks share one entry of DecalScene::masks
+            p.decal.mask = scene_detail::parseAndInternMask(j.at("mask"), path + ".mask", file_, masks_);
         return p;
     }
 
@@ -312,7 +351,7 @@ private:
         if (!t.is_string()) fail(tpath, "expected a texture name, an image path or a texture object");
         const std::string name = t.get<std::string>();
         if (auto it = textureTable_.find(name); it != textureTable_.end()) return it->second;
-        if (name.find_first_of("./") != std::string::npos) return {name, tpath, AlphaMode::Auto};
+        if (name.find_first_of("./") != std::string::npos) return imageRequest(name, tpath);
         fail(tpath, fmt::format("unknown texture '{}' (not a key of 'textures' and not a file name)", name));
     }
 
@@ -435,10 +474,22 @@ private:
         std::error_code ec;
         fs::path identity = fs::weakly_canonical(file, ec);
         if (ec) identity = file.lexically_normal();
-        const auto key = std::make_pair(identity.string(), request.alpha);
+        std::string files = identity.string();
+        for (std::size_t f = 1; f < request.faces.size(); ++f) files += "|" + request.faces[f];  // a cube is all six
+        const auto key = std::make_tuple(files, request.alpha, request.layout);
         if (auto it = loaded_.find(key); it != loaded_.end()) return it->second;
         try {
-            scene.textures.push_back(loadTexture2D(file.string(), request.alpha));
+            if (request.layout == scene_detail::TextureLayout::CubeFaces) {
+                std::vector<Texture2D> faces;
+                for (const std::string& face : request.faces) {
+                    fs::path face_file(face);
+                    if (face_file.is_relative()) face_file = dir_ / face_file;
+                    faces.push_back(loadTexture2D(face_file.string(), request.alpha));
+                }
+                scene.textures.push_back(cubeFromFaces(faces));
+            } else {
+                scene.textures.push_back(scene_detail::arrangeTexture(loadTexture2D(file.string(), request.alpha), request.layout));
+            }
         } catch (const Error& e) {
             fail(request.jsonPath, e.what());
         }
