@@ -45,6 +45,10 @@ struct RenderOptions {
     DepthConvention depth = DepthConvention::Planar;  // Position: position pass drives, depth kept too
     bool reversed_z = false;
     bool with_depth = true;  // false drops the depth pass (only with DepthConvention::Position)
+    // The rendered pixels as a data window of a larger (or smaller) display window: pixel (x, y)
+    // is display pixel (x + origin_x, y + origin_y). 0 x 0 display = width x height (full frame).
+    int origin_x = 0, origin_y = 0;
+    int display_width = 0, display_height = 0;
 };
 
 // Planes produced: depth (in the chosen convention; background 1e10, or 1 / 0 for ndc), albedo,
@@ -78,5 +82,14 @@ Texture2D proceduralTexture(int kind, int size, std::uint32_t seed);
 // Decals centred on random visible surface points of the frame, random orientation and size,
 // each with one of `texture_count` procedural textures, alternating nearest and linear filtering.
 DecalScene scatterDecals(const GBuffer& frame, const Camera& camera, const ScatterOptions& options);
+
+}  // namespace decalcomp::synth
+
+namespace decalcomp::synth {
+
+// Turns every decal of a scattered scene into `kind`, keeping its centre and size: volumes get a
+// procedural 32^3 texture, cubes six procedural faces, frustums become projectors a little in
+// front of the surface point looking at it. For benchmarks of each kind.
+void convertDecals(DecalScene& scene, DecalKind kind, std::uint32_t seed);
 
 }  // namespace decalcomp::synth

@@ -61,3 +61,40 @@ DecalScene scatterDecals(const GBuffer& frame, const Camera& camera, const Scatt
 }
 
 }  // namespace decalcomp::synth
+
+namespace decalcomp::synth {
+
+void convertDecals(DecalScene& scene, DecalKind kind, std::uint32_t seed) {
+    if (kind == DecalKind::Box || scene.decals.empty()) return;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int texture = -1;
+    if (kind == DecalKind::Volume || kind == DecalKind::Cube) {
+        const int depth = kind == DecalKind::Volume ? 32 : 6;
+        Texture2D t;
+        t.source = "procedural";
+        t.width = t.height = 32;
+        t.depth = depth;
+        for (int k = 0; k < depth; ++k) {
+            const Texture2D slice = proceduralTexture(k, 32, seed + std::uint32_t(k));
+            t.texels.insert(t.texels.end(), slice.texels.begin(), slice.texels.end());
+        }
+        texture = int(scene.textures.size());
+        scene.textures.push_back(std::move(t));
+    }
+    for (Decal& d : scene.decals) {
+        d.kind = kind;
+        if (texture >= 0) d.albedo_texture = texture;
+        if (kind != DecalKind::Frustum) continue;
+        const glm::dvec3 centre(d.world_matrix[3]);
+        const double size = glm::length(glm::dvec3(d.world_matrix[0]));
+        const glm::dvec3 origin = centre + glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)) + 1e-6) * (2.0 * size);
+        d.world_matrix = glm::inverse(lookAt(origin, centre, glm::dvec3(u(rng), u(rng), 1.0)));
+        d.fov_y_deg = 30.0;
+        d.aspect = 1.0;
+        d.near = 0.1 * size;
+        d.far = 3.0 * size;
+    }
+}
+
+}  // namespace decalcomp::synth

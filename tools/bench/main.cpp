@@ -81,6 +81,7 @@ struct Options {
     int texture_count = 4, texture_size = 32;
     std::uint32_t seed = 1;
     std::string modes = "both";  // both, binned, unbinned
+    std::string kind = "box";    // decal kind of every decal
 };
 
 Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camera, int decals, bool binned,
@@ -235,6 +236,8 @@ int main(int argc, char** argv) {
     app.add_option("--textures", opt.texture_count, "procedural textures")->check(CLI::PositiveNumber);
     app.add_option("--texture-size", opt.texture_size, "texture edge, texels")->check(CLI::PositiveNumber);
     app.add_option("--seed", opt.seed, "decal scatter seed");
+    app.add_option("--kind", opt.kind, "decal kind of every decal")
+        ->check(CLI::IsMember({"box", "volume", "frustum", "cube"}));
     bool list = false;
     app.add_flag("--list-devices", list, "list OpenCL devices and exit");
     try {
@@ -293,7 +296,11 @@ int main(int argc, char** argv) {
                 scatter.texture_count = opt.texture_count;
                 scatter.texture_size = opt.texture_size;
                 scatter.seed = opt.seed;
-                compositor.setScene(synth::scatterDecals(full, camera, scatter));
+                DecalScene decal_scene = synth::scatterDecals(full, camera, scatter);
+                const DecalKind kinds[] = {DecalKind::Box, DecalKind::Volume, DecalKind::Frustum, DecalKind::Cube};
+                for (DecalKind k : kinds)
+                    if (opt.kind == decalKindName(k)) synth::convertDecals(decal_scene, k, opt.seed);
+                compositor.setScene(decal_scene);
                 // The compositor reads only depth and albedo here; drop the rest to keep copies cheap.
                 GBuffer frame = full;
                 for (auto it = frame.planes.begin(); it != frame.planes.end();)
