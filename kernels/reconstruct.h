@@ -55,4 +55,39 @@ inline bool dc_reconstruct(__constant const DcFrame* f, __read_only image2d_t de
     return true;
 }
 
+/* Camera-space normal of pixel (x, y) from its neighbours' points (seed 004): per axis, the
+ * neighbour whose depth is closer to this pixel's, so differences never straddle a silhouette.
+ * Falls back to facing the camera where no neighbour is valid. */
+inline float3 dc_normal_from_depth(__constant const DcFrame* f, __read_only image2d_t depth_image,
+                                   __read_only image2d_t position_image, int x, int y, float3 p) {
+    float3 axis[2];
+    int found = 0;
+    for (int a = 0; a < 2; ++a) {
+        float3 best = (float3)(0.0f);
+        float best_gap = MAXFLOAT;
+        for (int side = -1; side <= 1; side += 2) {
+            const int nx = a == 0 ? x + side : x, ny = a == 0 ? y : y + side;
+            float3 q;
+            if (nx < 0 || ny < 0 || nx >= f->width || ny >= f->height ||
+                !dc_reconstruct(f, depth_image, position_image, nx, ny, &q))
+                continue;
+            const float gap = fabs(q.z - p.z);
+            if (gap < best_gap) {
+                best_gap = gap;
+                best = (q - p) * (float)side; /* always towards +x / +y */
+            }
+        }
+        if (best_gap < MAXFLOAT) {
+            axis[a] = best;
+            ++found;
+        }
+    }
+    const float3 towards_camera = -normalize(p);
+    if (found < 2) return towards_camera;
+    float3 n = cross(axis[0], axis[1]);
+    if (!(length(n) > 0.0f)) return towards_camera;
+    n = normalize(n);
+    return dot(n, towards_camera) < 0.0f ? -n : n;
+}
+
 #endif

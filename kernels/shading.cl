@@ -18,7 +18,9 @@ __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t de
     float3 p;
     if (dc_reconstruct(frame, depth_image, position_image, x, y, &p)) {
         float3 normal = (float3)(0.0f);
-        if (frame->has_normal) {
+        if (frame->reconstruct_normals) {
+            normal = dc_normal_from_depth(frame, depth_image, position_image, x, y, p);
+        } else if (frame->has_normal) {
             const float3 n = read_imagef(normal_image, dc_pixel_sampler, (int2)(x, y)).xyz;
             normal = (float3)(dot(vload3(0, frame->world_to_camera), n), dot(vload3(0, frame->world_to_camera + 4), n),
                               dot(vload3(0, frame->world_to_camera + 8), n));
@@ -32,7 +34,8 @@ __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t de
         }
         for (int k = begin; k < end; ++k) {
             __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
-            const float4 colour = dc_decal_colour(d, textures, texels, p, normal, frame->has_normal);
+            const float4 colour =
+                dc_decal_colour(d, textures, texels, p, normal, frame->has_normal || frame->reconstruct_normals);
             if (!(colour.w > 0.0f)) continue;
             float weight = d->opacity;
             if (d->mask >= 0) weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];

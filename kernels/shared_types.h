@@ -53,7 +53,7 @@ typedef struct {
     DC_INT decal_count;
     DC_INT has_depth;  /* 0: position convention without a depth pass */
     DC_INT has_normal; /* a world-space normal image is bound (angle fades) */
-    DC_INT pad0;
+    DC_INT reconstruct_normals; /* no normal pass but angle fades: normals from depth neighbours */
 } DcFrame;
 
 /* One decal, prepared on the host in double precision. */

@@ -362,3 +362,34 @@ TEST(Kernels, DataWindowOffsetMatchesReference) {
 
 }  // namespace
 }  // namespace decalcomp
+
+namespace decalcomp {
+namespace {
+
+// Without a normal pass, angle fades use normals reconstructed from depth (kernel and reference
+// follow the same neighbour rule), and they do change the result.
+TEST(Kernels, AngleFadeWithNormalsFromDepthMatchesReference) {
+    for (std::uint32_t seed : {1u, 4u, 5u}) {
+        RandomFrame f = makeRandomFrame(seed);
+        f.gbuffer.planes.erase(Attribute::Normal);
+        DecalScene decals = makeRandomDecals(f, seed, 150);
+        for (Decal& d : decals.decals) d.angle_fade_deg = {20.0, 70.0};
+        Compositor compositor(cpuDevice());
+        compositor.setScene(decals);
+        GBuffer out = f.gbuffer;
+        compositor.composite(out, f.camera);
+        const auto ref = reference::shade(f.gbuffer, f.camera, decals, roundingMargin(f.gbuffer));
+        const Comparison c = compareWithReference(f.gbuffer, out, ref, albedoTolerance(f.gbuffer));
+        EXPECT_EQ(c.mismatched, 0u) << "seed " << seed << " max error " << c.max_error;
+        EXPECT_LT(double(c.ambiguous), 0.25 * double(f.gbuffer.pixelCount())) << "seed " << seed;
+
+        for (Decal& d : decals.decals) d.angle_fade_deg = {0.0, 0.0};
+        compositor.setScene(decals);
+        GBuffer unfaded = f.gbuffer;
+        compositor.composite(unfaded, f.camera);
+        EXPECT_NE(unfaded.planes.at(Attribute::Albedo).samples, out.planes.at(Attribute::Albedo).samples);
+    }
+}
+
+}  // namespace
+}  // namespace decalcomp

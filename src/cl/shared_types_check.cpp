@@ -13,6 +13,7 @@ static_assert(offsetof(DcFrame, width) == 192);
 static_assert(offsetof(DcFrame, far_plane) == 224);
 static_assert(offsetof(DcFrame, has_depth) == 244);
 static_assert(offsetof(DcFrame, has_normal) == 248);
+static_assert(offsetof(DcFrame, reconstruct_normals) == 252);
 static_assert(sizeof(DcDecal) == 176);
 static_assert(offsetof(DcDecal, facing_axis) == 132);
 static_assert(offsetof(DcDecal, distance_fade) == 156);

@@ -151,6 +151,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     const bool angle_fades = std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
                                          [](const Decal& d) { return d.angle_fade_deg[1] > 0.0; });
     if (!angle_fades) params.has_normal = 0;
+    params.reconstruct_normals = angle_fades && !params.has_normal ? 1 : 0;
     const std::size_t pixels = frame.pixelCount();
     const int tiles = params.tiles_x * params.tiles_y;
 

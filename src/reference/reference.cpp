@@ -69,6 +69,40 @@ std::optional<glm::dvec3> cameraPoint(const GBuffer& f, const Camera& camera, in
     return p;
 }
 
+// Normal from neighbouring points (camera space), per axis from the neighbour nearer in depth;
+// `tie` is set when both neighbours are about as near, so float rounding may pick either.
+glm::dvec3 normalFromDepth(const GBuffer& f, const Camera& camera, int x, int y, const glm::dvec3& p, bool& tie) {
+    glm::dvec3 axis[2];
+    int found = 0;
+    for (int a = 0; a < 2; ++a) {
+        double gaps[2] = {-1.0, -1.0};
+        glm::dvec3 diffs[2];
+        for (int side = 0; side < 2; ++side) {
+            const int step = side == 0 ? -1 : 1;
+            const int nx = a == 0 ? x + step : x, ny = a == 0 ? y : y + step;
+            if (nx < 0 || ny < 0 || nx >= f.width || ny >= f.height) continue;
+            const auto q = cameraPoint(f, camera, nx, ny);
+            if (!q) continue;
+            gaps[side] = std::abs(q->z - p.z);
+            diffs[side] = (*q - p) * double(step);
+        }
+        if (gaps[0] < 0 && gaps[1] < 0) continue;
+        int pick = gaps[0] < 0 ? 1 : gaps[1] < 0 ? 0 : (gaps[1] < gaps[0] ? 1 : 0);
+        // a near tie matters only where the two sides disagree (curved surfaces; planes agree)
+        if (gaps[0] >= 0 && gaps[1] >= 0 && std::abs(gaps[0] - gaps[1]) <= 1e-4 * (gaps[0] + gaps[1]) + 1e-7 &&
+            glm::length(glm::cross(glm::normalize(diffs[0]), glm::normalize(diffs[1]))) > 1e-5)
+            tie = true;
+        axis[a] = diffs[pick];
+        ++found;
+    }
+    const glm::dvec3 towards_camera = -glm::normalize(p);
+    if (found < 2) return towards_camera;
+    glm::dvec3 n = glm::cross(axis[0], axis[1]);
+    if (!(glm::length(n) > 0.0)) return towards_camera;
+    n = glm::normalize(n);
+    return glm::dot(n, towards_camera) < 0.0 ? -n : n;
+}
+
 }  // namespace
 
 std::optional<glm::dvec3> pixelWorldPoint(const GBuffer& frame, const Camera& camera, int x, int y) {
@@ -298,6 +332,9 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
         scale.push_back(row_norm);
     }
     const bool has_normal = frame.has(Attribute::Normal);
+    const bool angle_fades = std::any_of(scene.decals.begin(), scene.decals.end(),
+                                         [](const Decal& d) { return d.angle_fade_deg[1] > 0.0; });
+    const glm::dmat4 camera_to_world = glm::inverse(camera.world_to_camera);
     const glm::dvec3 camera_position(glm::inverse(camera.world_to_camera)[3]);
     for (int y = 0; y < frame.height; ++y)
         for (int x = 0; x < frame.width; ++x) {
@@ -305,9 +342,13 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
             if (!p) continue;
             const std::size_t i = std::size_t(y) * frame.width + x;
             std::optional<glm::dvec3> normal;
+            bool normal_tie = false;
             if (has_normal) {
                 const Plane& n = frame.planes.at(Attribute::Normal);
                 normal = glm::normalize(glm::dvec3(n.at(i, 0), n.at(i, 1), n.at(i, 2)));
+            } else if (angle_fades) {
+                const glm::dvec3 n_cam = normalFromDepth(frame, camera, x, y, *cameraPoint(frame, camera, x, y), normal_tie);
+                normal = glm::normalize(glm::dvec3(camera_to_world * glm::dvec4(n_cam, 0.0)));
             }
             glm::dvec3 albedo(result.albedo.at(i, 0), result.albedo.at(i, 1), result.albedo.at(i, 2));
             for (std::size_t k = 0; k < scene.decals.size(); ++k) {
@@ -318,6 +359,7 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                     decal.albedo_texture >= 0 ? &scene.textures[std::size_t(decal.albedo_texture)] : nullptr;
                 const DecalSample sample = sampleDecal(decal, world_to_local[k], texture, *p, normal, slack);
                 if (sample.ambiguous) result.ambiguous[i] = 1;
+                if (normal_tie && decal.angle_fade_deg[1] > 0.0 && sample.colour.a > 0.0) result.ambiguous[i] = 1;
                 if (!(sample.colour.a > 0.0)) continue;
                 double weight = decal.opacity;
                 if (decal.mask >= 0) weight *= frame.mask_weights[std::size_t(decal.mask)].at(i, 0);
