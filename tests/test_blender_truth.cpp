@@ -47,14 +47,18 @@ Score scoreAgainstTruth(const ExrImage& result, const ExrImage& truth, const std
     return score;
 }
 
+// Composites a sample folder's gbuffer.exr with the given scene through the CLI into `out`.
+void compositeSample(const std::string& folder, const std::string& scene, const std::string& out) {
+    const auto file = [&](const std::string& f) { return test::shellQuote(test::dataPath(folder + "/" + f)); };
+    const auto run = test::runCli("composite " + file("gbuffer.exr") + " --decals " + file(scene) + " --camera " +
+                                  file("camera.json") + " --device cpu -q -o " + test::shellQuote(out));
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+}
+
 TEST(BlenderTruth, BoxDecalsMatchCyclesAbove40dB) {
     test::ScratchDir dir;
     const std::string out = dir.file("out.exr");
-    const auto run = test::runCli("composite " + test::shellQuote(test::dataPath("blender/gbuffer.exr")) + " --decals " +
-                                  test::shellQuote(test::dataPath("blender/scene.json")) + " --camera " +
-                                  test::shellQuote(test::dataPath("blender/camera.json")) + " --device cpu -q -o " +
-                                  test::shellQuote(out));
-    ASSERT_EQ(run.exit_code, 0) << run.output;
+    ASSERT_NO_FATAL_FAILURE(compositeSample("blender", "scene.json", out));
     const ExrImage result = readExr(out);
     const ExrImage truth = readExr(test::dataPath("blender/truth.exr"));
     const Score score = scoreAgainstTruth(result, truth);
@@ -71,22 +75,14 @@ TEST(BlenderTruth, NeutralDecalFileLoadsAsIs) {
     // the >= 40 dB bar applies.
     test::ScratchDir dir;
     const std::string out = dir.file("out.exr");
-    const auto run = test::runCli("composite " + test::shellQuote(test::dataPath("blender/gbuffer.exr")) + " --decals " +
-                                  test::shellQuote(test::dataPath("blender/decals.json")) + " --camera " +
-                                  test::shellQuote(test::dataPath("blender/camera.json")) + " --device cpu -q -o " +
-                                  test::shellQuote(out));
-    ASSERT_EQ(run.exit_code, 0) << run.output;
+    ASSERT_NO_FATAL_FAILURE(compositeSample("blender", "decals.json", out));
     EXPECT_GE(scoreAgainstTruth(readExr(out), readExr(test::dataPath("blender/truth.exr"))).psnr, 40.0);
 }
 
 TEST(BlenderTruth, UntouchedChannelsAreBitExact) {
     test::ScratchDir dir;
     const std::string out = dir.file("out.exr");
-    const auto run = test::runCli("composite " + test::shellQuote(test::dataPath("blender/gbuffer.exr")) + " --decals " +
-                                  test::shellQuote(test::dataPath("blender/scene.json")) + " --camera " +
-                                  test::shellQuote(test::dataPath("blender/camera.json")) + " --device cpu -q -o " +
-                                  test::shellQuote(out));
-    ASSERT_EQ(run.exit_code, 0) << run.output;
+    ASSERT_NO_FATAL_FAILURE(compositeSample("blender", "scene.json", out));
     const ExrImage in = readExr(test::dataPath("blender/gbuffer.exr"));
     const ExrImage result = readExr(out);
     ASSERT_EQ(in.parts.size(), result.parts.size());
@@ -111,10 +107,7 @@ TEST(BlenderTruth, UntouchedChannelsAreBitExact) {
 TEST(BlenderTruth, EveryKindMatchesCycles) {
     test::ScratchDir dir;
     const std::string out = dir.file("out.exr");
-    const auto kinds = [](const std::string& f) { return test::shellQuote(test::dataPath("blender-kinds/" + f)); };
-    const auto run = test::runCli("composite " + kinds("gbuffer.exr") + " --decals " + kinds("scene.json") + " --camera " +
-                                  kinds("camera.json") + " --device cpu -q -o " + test::shellQuote(out));
-    ASSERT_EQ(run.exit_code, 0) << run.output;
+    ASSERT_NO_FATAL_FAILURE(compositeSample("blender-kinds", "scene.json", out));
     const ExrImage result = readExr(out);
     const ExrImage truth = readExr(test::dataPath("blender-kinds/truth.exr"));
     // The volume is an analytic function in the truth: only trilinear filtering of its 32^3

@@ -191,6 +191,15 @@ double ambiguousShare(const GBuffer& g) { return g.depth_convention == DepthConv
 
 class RandomScenes : public ::testing::TestWithParam<std::uint32_t> {};
 
+// Composites once and returns the tile depth ranges and lists the binning produced.
+BinningResult binRandomScene(const RandomFrame& f, const DecalScene& decals) {
+    Compositor compositor(cpuDevice());
+    compositor.setScene(decals);
+    GBuffer out = f.gbuffer;
+    compositor.composite(out, f.camera);
+    return compositor.lastBinning();
+}
+
 TEST_P(RandomScenes, BinnedKernelMatchesReference) {
     const RandomFrame f = makeRandomFrame(GetParam());
     const DecalScene decals = makeRandomDecals(f, GetParam(), 300);
@@ -226,12 +235,7 @@ TEST_P(RandomScenes, BinnedEqualsUnbinnedExactly) {
 
 TEST_P(RandomScenes, TileDepthRangesMatchReference) {
     const RandomFrame f = makeRandomFrame(GetParam());
-    const DecalScene decals = makeRandomDecals(f, GetParam(), 20);
-    Compositor compositor(cpuDevice());
-    compositor.setScene(decals);
-    GBuffer out = f.gbuffer;
-    compositor.composite(out, f.camera);
-    const BinningResult bins = compositor.lastBinning();
+    const BinningResult bins = binRandomScene(f, makeRandomDecals(f, GetParam(), 20));
     const auto ref = reference::tileDepthRanges(f.gbuffer, f.camera, DC_TILE_SIZE);
     ASSERT_EQ(bins.tile_depth.size(), ref.size() * 2);
     std::size_t non_empty = 0;
@@ -249,11 +253,7 @@ TEST_P(RandomScenes, TileDepthRangesMatchReference) {
 TEST_P(RandomScenes, BinningIsConservativeAndOrdered) {
     const RandomFrame f = makeRandomFrame(GetParam());
     const DecalScene decals = makeRandomDecals(f, GetParam(), 300);
-    Compositor compositor(cpuDevice());
-    compositor.setScene(decals);
-    GBuffer out = f.gbuffer;
-    compositor.composite(out, f.camera);
-    const BinningResult bins = compositor.lastBinning();
+    const BinningResult bins = binRandomScene(f, decals);
     const auto exact = reference::exactBins(f.gbuffer, f.camera, decals, DC_TILE_SIZE);
     ASSERT_EQ(bins.tile_offsets.size(), exact.size() + 1);
     std::size_t needed = 0, listed = 0;
