@@ -55,6 +55,25 @@ inline bool dc_reconstruct(__constant const DcFrame* f, __read_only image2d_t de
     return true;
 }
 
+/* Footprint of pixel (x, y): where the rays of its right and lower neighbours meet the plane
+ * through p with normal n (no neighbour depth is read, so silhouettes cannot disturb it).
+ * Returns 0 when a ray runs parallel to the plane or meets it behind the camera. */
+inline int dc_footprint(__constant const DcFrame* f, int x, int y, float3 p, float3 n, float3* p_dx, float3* p_dy) {
+    for (int a = 0; a < 2; ++a) {
+        const float2 ndc = dc_pixel_ndc(f, x + (a == 0), y + (a == 1));
+        const float3 far_point = dc_unproject(f, ndc, 1.0f);
+        const float3 origin = f->orthographic ? dc_unproject(f, ndc, -1.0f) : (float3)(0.0f);
+        const float3 dir = far_point - origin;
+        const float denom = dot(dir, n);
+        if (!(fabs(denom) > 1e-6f * length(dir))) return 0;
+        const float t = dot(p - origin, n) / denom;
+        if (!(t > 0.0f)) return 0;
+        if (a == 0) *p_dx = origin + dir * t;
+        else *p_dy = origin + dir * t;
+    }
+    return 1;
+}
+
 /* Camera-space normal of pixel (x, y) from its neighbours' points (seed 004): per axis, the
  * neighbour whose depth is closer to this pixel's, so differences never straddle a silhouette.
  * Falls back to facing the camera where no neighbour is valid. */

@@ -26,6 +26,9 @@ __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t de
                               dot(vload3(0, frame->world_to_camera + 8), n));
             normal = normalize(normal);
         }
+        float3 p_dx = p, p_dy = p;
+        const int footprint = (frame->has_normal || frame->reconstruct_normals) &&
+                              dc_footprint(frame, x, y, p, normal, &p_dx, &p_dy);
         int begin = 0, end = frame->decal_count;
         if (binned) {
             const int tile = (y / DC_TILE_SIZE) * frame->tiles_x + x / DC_TILE_SIZE;
@@ -35,7 +38,8 @@ __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t de
         for (int k = begin; k < end; ++k) {
             __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
             const float4 colour =
-                dc_decal_colour(d, textures, texels, p, normal, frame->has_normal || frame->reconstruct_normals);
+                dc_decal_colour(d, textures, texels, p, normal, frame->has_normal || frame->reconstruct_normals, p_dx,
+                                p_dy, footprint);
             if (!(colour.w > 0.0f)) continue;
             float weight = d->opacity;
             if (d->mask >= 0) weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];

@@ -30,6 +30,7 @@ namespace decalcomp::cl_types {
 
 #define DC_FILTER_NEAREST 0
 #define DC_FILTER_LINEAR 1
+#define DC_FILTER_MIP 2 /* trilinear over a mip chain, level from the pixel's footprint */
 
 /* Pixels with a planar view depth below this are never decaled (the binning clips decal
  * volumes at this distance in front of the camera). */
@@ -80,7 +81,9 @@ typedef struct {
 typedef struct {
     DC_INT offset;
     DC_INT width, height;
-    DC_INT depth; /* slices: 1 for 2D, D for a volume, 6 for a cube */
+    DC_INT depth;  /* slices: 1 for 2D, D for a volume, 6 for a cube */
+    DC_INT levels; /* mip levels from this one down; level l is the table entry l places later */
+    DC_INT pad0, pad1, pad2;
 } DcTexture;
 
 /* A decal's conservative screen footprint: inclusive tile range and planar depth range. */

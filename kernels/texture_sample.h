@@ -43,28 +43,53 @@ inline float4 dc_sample_3d(__global const float4* texels, DcTexture t, float s, 
     return mix(dc_sample_slice(texels, t, s, tc, k, filter), dc_sample_slice(texels, t, s, tc, k + 1, filter), z - z0);
 }
 
-/* Cube lookup by direction (OpenGL rule; faces +X,-X,+Y,-Y,+Z,-Z; ties pick x, then y, then z). */
-inline float4 dc_sample_cube(__global const float4* texels, DcTexture t, float3 d, int filter) {
+/* The cube face of a direction (OpenGL rule; faces +X,-X,+Y,-Y,+Z,-Z; ties pick x, then y, then z). */
+inline int dc_cube_face(float3 d) {
     const float3 a = fabs(d);
-    int face;
+    if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0f ? 0 : 1;
+    if (a.y >= a.z) return d.y >= 0.0f ? 2 : 3;
+    return d.z >= 0.0f ? 4 : 5;
+}
+
+/* (s, t) of a direction on a given face (also for directions off that face, for footprints). */
+inline float2 dc_cube_face_st(float3 d, int face) {
     float sc, tc, ma;
-    if (a.x >= a.y && a.x >= a.z) {
-        face = d.x >= 0.0f ? 0 : 1;
-        ma = a.x;
-        sc = d.x >= 0.0f ? -d.z : d.z;
-        tc = -d.y;
-    } else if (a.y >= a.z) {
-        face = d.y >= 0.0f ? 2 : 3;
-        ma = a.y;
-        sc = d.x;
-        tc = d.y >= 0.0f ? d.z : -d.z;
-    } else {
-        face = d.z >= 0.0f ? 4 : 5;
-        ma = a.z;
-        sc = d.z >= 0.0f ? d.x : -d.x;
-        tc = -d.y;
+    switch (face) {
+        case 0: sc = -d.z; tc = -d.y; ma = d.x; break;
+        case 1: sc = d.z; tc = -d.y; ma = -d.x; break;
+        case 2: sc = d.x; tc = d.z; ma = d.y; break;
+        case 3: sc = d.x; tc = -d.z; ma = -d.y; break;
+        case 4: sc = d.x; tc = -d.y; ma = d.z; break;
+        default: sc = -d.x; tc = -d.y; ma = -d.z; break;
     }
-    return dc_sample_slice(texels, t, 0.5f * (sc / ma + 1.0f), 0.5f * (tc / ma + 1.0f), face, filter);
+    return (float2)(0.5f * (sc / ma + 1.0f), 0.5f * (tc / ma + 1.0f));
+}
+
+inline float4 dc_sample_cube(__global const float4* texels, DcTexture t, float3 d, int filter) {
+    const int face = dc_cube_face(d);
+    const float2 st = dc_cube_face_st(d, face);
+    return dc_sample_slice(texels, t, st.x, st.y, face, filter);
+}
+
+/* Mip level from texture coordinates at the pixel and where its right and lower neighbours'
+ * rays meet the surface's tangent plane: log2 of the longer footprint axis in level-0 texels. */
+inline float dc_lod(float2 st, float2 st_dx, float2 st_dy, DcTexture t) {
+    const float2 size = (float2)((float)t.width, (float)t.height);
+    const float rho = fmax(length((st_dx - st) * size), length((st_dy - st) * size));
+    return rho > 1.0f ? log2(rho) : 0.0f;
+}
+
+/* Trilinear mip lookup in one slice: bilinear in the two levels around lod, blended. */
+inline float4 dc_sample_mip(__global const float4* texels, __global const DcTexture* textures, int index, float s,
+                            float tc, int slice, float lod) {
+    const int levels = textures[index].levels;
+    lod = clamp(lod, 0.0f, (float)(levels - 1));
+    const int l0 = (int)floor(lod);
+    const int l1 = min(l0 + 1, levels - 1);
+    const float4 a = dc_sample_slice(texels, textures[index + l0], s, tc, slice, DC_FILTER_LINEAR);
+    const float f = lod - (float)l0;
+    if (!(f > 0.0f)) return a;
+    return mix(a, dc_sample_slice(texels, textures[index + l1], s, tc, slice, DC_FILTER_LINEAR), f);
 }
 
 #endif

@@ -107,6 +107,7 @@ void convertKinds(DecalScene& scene, const RandomFrame& f, std::uint32_t seed) {
         }
         if (normals && k % 3 == 0) d.angle_fade_deg = {10.0 + 30.0 * u01(rng), 50.0 + 60.0 * u01(rng)};
         if (k % 5 == 0) d.axis_fade = 0.2 + 0.6 * u01(rng);
+        if (k % 7 == 3) d.filter = TextureFilter::Mip;
     }
 }
 

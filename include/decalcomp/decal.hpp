@@ -8,7 +8,7 @@
 namespace decalcomp {
 
 enum class DecalKind { Box, Volume, Frustum, Cube };
-enum class TextureFilter { Nearest, Linear };
+enum class TextureFilter { Nearest, Linear, Mip };
 
 const char* decalKindName(DecalKind k);
 const char* textureFilterName(TextureFilter f);
@@ -28,6 +28,9 @@ Texture2D volumeFromStrip(Texture2D strip);
 Texture2D cubeFromStrip(const Texture2D& strip);
 // Six face images in +X,-X,+Y,-Y,+Z,-Z order, all N x N, as a cube.
 Texture2D cubeFromFaces(const std::vector<Texture2D>& faces);
+// The mip chain of a texture, level 0 first, down to 1x1: each level averages 2x2 texels of the
+// one above within each slice (slices are kept, so cube faces never mix); odd edges repeat.
+std::vector<Texture2D> mipChain(const Texture2D& texture);
 
 // Which surfaces a decal may touch. Evaluated per frame into a weight plane (1 = full effect),
 // so antialiased Cryptomatte coverage gives antialiased decal edges.

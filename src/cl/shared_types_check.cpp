@@ -21,7 +21,7 @@ static_assert(offsetof(DcDecal, mask) == 112);
 static_assert(offsetof(DcDecal, local_to_camera) == 48);
 static_assert(offsetof(DcDecal, kind) == 96);
 static_assert(offsetof(DcDecal, opacity) == 108);
-static_assert(sizeof(DcTexture) == 16);
+static_assert(sizeof(DcTexture) == 32);
 static_assert(sizeof(DcDecalBounds) == 32);
 static_assert(offsetof(DcDecalBounds, depth_min) == 16);
 

@@ -83,6 +83,7 @@ struct Compositor::State {
     cl::Kernel tile_bounds, decal_bounds, coarse_depth, coarse_mask, coarse_count, coarse_fill, bin_count, bin_fill, shade;
     cl::Buffer texture_table, texels;
     std::size_t mask_count = 0;
+    std::vector<int> texture_entries;  // scene texture index -> texture table entry
     DecalScene scene;  // decals only; textures live on the device
     // last frame's binning, kept for lastBinning()
     cl::Buffer tile_depth, tile_offsets, tile_decals;
@@ -126,6 +127,7 @@ void Compositor::setScene(const DecalScene& scene) {
         if (d.mask >= int(scene.masks.size()))
             throw inputError(fmt::format("decal '{}': mask index {} out of range", d.name, d.mask));
     state_->scene.decals = scene.decals;
+    state_->texture_entries = packed.first_entry;
     state_->mask_count = scene.masks.size();
     state_->scene.textures.clear();
 }
@@ -145,13 +147,14 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     State& s = *state_;
     cl::Context& context = device_.context();
     cl::CommandQueue& queue = device_.queue();
-    const auto decals = makeDecalParams(s.scene, camera);
+    const auto decals = makeDecalParams(s.scene, camera, s.texture_entries);
     cl_types::DcFrame params = makeFrameParams(frame, camera, int(decals.size()));
-    // Normals are read only for angle fades: skip their upload otherwise.
-    const bool angle_fades = std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
-                                         [](const Decal& d) { return d.angle_fade_deg[1] > 0.0; });
-    if (!angle_fades) params.has_normal = 0;
-    params.reconstruct_normals = angle_fades && !params.has_normal ? 1 : 0;
+    // Normals are read only for angle fades and mip footprints: skip their upload otherwise.
+    const bool needs_normals = std::any_of(s.scene.decals.begin(), s.scene.decals.end(), [](const Decal& d) {
+        return d.angle_fade_deg[1] > 0.0 || d.filter == TextureFilter::Mip;
+    });
+    if (!needs_normals) params.has_normal = 0;
+    params.reconstruct_normals = needs_normals && !params.has_normal ? 1 : 0;
     const std::size_t pixels = frame.pixelCount();
     const int tiles = params.tiles_x * params.tiles_y;
 

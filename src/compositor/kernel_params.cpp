@@ -61,7 +61,8 @@ cl_types::DcFrame makeFrameParams(const GBuffer& frame, const Camera& camera, in
     return f;
 }
 
-std::vector<cl_types::DcDecal> makeDecalParams(const DecalScene& scene, const Camera& camera) {
+std::vector<cl_types::DcDecal> makeDecalParams(const DecalScene& scene, const Camera& camera,
+                                               const std::vector<int>& texture_entries) {
     const glm::dmat4 camera_to_world = glm::inverse(camera.world_to_camera);
     std::vector<cl_types::DcDecal> out;
     out.reserve(scene.decals.size());
@@ -70,8 +71,10 @@ std::vector<cl_types::DcDecal> makeDecalParams(const DecalScene& scene, const Ca
         storeRowMajor(glm::inverse(decal.world_matrix) * camera_to_world, d.camera_to_local, 3);
         storeRowMajor(camera.world_to_camera * decal.world_matrix, d.local_to_camera, 3);
         d.kind = kindCode(decal.kind);
-        d.filter = decal.filter == TextureFilter::Nearest ? DC_FILTER_NEAREST : DC_FILTER_LINEAR;
-        d.texture = decal.albedo_texture;
+        d.filter = decal.filter == TextureFilter::Nearest ? DC_FILTER_NEAREST
+                   : decal.filter == TextureFilter::Linear ? DC_FILTER_LINEAR
+                                                           : DC_FILTER_MIP;
+        d.texture = decal.albedo_texture >= 0 ? texture_entries.at(std::size_t(decal.albedo_texture)) : -1;
         d.opacity = decal.opacity;
         d.mask = decal.mask;
         d.tan_half_fov_y = float(std::tan(glm::radians(decal.fov_y_deg) / 2.0));
@@ -92,16 +95,20 @@ std::vector<cl_types::DcDecal> makeDecalParams(const DecalScene& scene, const Ca
 
 PackedTextures packTextures(const std::vector<Texture2D>& textures) {
     PackedTextures packed;
-    std::size_t total = 0;
-    for (const auto& t : textures) total += t.texels.size();
-    if (total > std::size_t(INT32_MAX)) throw inputError("decal textures: more than 2^31 texels in total");
-    packed.texels.reserve(total * 4);
     for (const auto& t : textures) {
         if (t.width <= 0 || t.height <= 0 || t.depth <= 0 ||
             t.texels.size() != std::size_t(t.width) * std::size_t(t.height) * std::size_t(t.depth))
             throw inputError(t.source + ": texture has no texels");
-        packed.table.push_back({int(packed.texels.size() / 4), t.width, t.height, t.depth});
-        for (const auto& texel : t.texels) packed.texels.insert(packed.texels.end(), {texel.r, texel.g, texel.b, texel.a});
+        packed.first_entry.push_back(int(packed.table.size()));
+        const std::vector<Texture2D> chain = mipChain(t);
+        for (std::size_t level = 0; level < chain.size(); ++level) {
+            const Texture2D& l = chain[level];
+            if (packed.texels.size() / 4 + l.texels.size() > std::size_t(INT32_MAX))
+                throw inputError("decal textures: more than 2^31 texels in total");
+            packed.table.push_back({int(packed.texels.size() / 4), l.width, l.height, l.depth,
+                                    int(chain.size() - level), 0, 0, 0});
+            for (const auto& texel : l.texels) packed.texels.insert(packed.texels.end(), {texel.r, texel.g, texel.b, texel.a});
+        }
     }
     return packed;
 }

@@ -18,6 +18,7 @@ const char* textureFilterName(TextureFilter f) {
     switch (f) {
         case TextureFilter::Nearest: return "nearest";
         case TextureFilter::Linear: return "linear";
+        case TextureFilter::Mip: return "mip";
     }
     return "?";
 }

@@ -1,6 +1,8 @@
 // Re-slicing decoded images into volumes and cube maps (Texture2D with depth > 1).
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "decalcomp/decal.hpp"
 #include "decalcomp/error.hpp"
 
@@ -45,6 +47,32 @@ Texture2D cubeFromFaces(const std::vector<Texture2D>& faces) {
         cube.texels.insert(cube.texels.end(), f.texels.begin(), f.texels.end());
     }
     return cube;
+}
+
+std::vector<Texture2D> mipChain(const Texture2D& texture) {
+    std::vector<Texture2D> chain{texture};
+    while (chain.back().width > 1 || chain.back().height > 1) {
+        const Texture2D& above = chain.back();
+        Texture2D level;
+        level.source = above.source;
+        level.width = std::max(1, above.width / 2);
+        level.height = std::max(1, above.height / 2);
+        level.depth = above.depth;
+        level.texels.resize(std::size_t(level.width) * level.height * level.depth);
+        auto at = [&](int i, int j, int k) {
+            i = std::min(i, above.width - 1);
+            j = std::min(j, above.height - 1);
+            return above.texels[(std::size_t(k) * above.height + j) * above.width + i];
+        };
+        for (int k = 0; k < level.depth; ++k)
+            for (int j = 0; j < level.height; ++j)
+                for (int i = 0; i < level.width; ++i)
+                    level.texels[(std::size_t(k) * level.height + j) * level.width + i] =
+                        0.25f * (at(2 * i, 2 * j, k) + at(2 * i + 1, 2 * j, k) + at(2 * i, 2 * j + 1, k) +
+                                 at(2 * i + 1, 2 * j + 1, k));
+        chain.push_back(std::move(level));
+    }
+    return chain;
 }
 
 }  // namespace decalcomp

@@ -236,6 +236,28 @@ namespace {
 // 1 up to `full`, 0 from `none`, linear between.
 double rampDown(double x, double full, double none) { return std::clamp((none - x) / (none - full), 0.0, 1.0); }
 
+// Trilinear lookup in a mip chain: bilinear in the levels around lod, blended.
+glm::dvec4 sampleMip(const std::vector<Texture2D>& chain, double s, double t, long slice, double lod) {
+    lod = std::clamp(lod, 0.0, double(chain.size() - 1));
+    const std::size_t l0 = std::size_t(std::floor(lod)), l1 = std::min(l0 + 1, chain.size() - 1);
+    const double f = lod - double(l0);
+    const glm::dvec4 a = sampleSlice(chain[l0], s, t, slice, TextureFilter::Linear);
+    return f > 0.0 ? a * (1.0 - f) + sampleSlice(chain[l1], s, t, slice, TextureFilter::Linear) * f : a;
+}
+
+// log2 of the longer footprint axis in level-0 texels (0 when magnified).
+double levelOfDetail(glm::dvec2 st, glm::dvec2 st_dx, glm::dvec2 st_dy, const Texture2D& t) {
+    const glm::dvec2 size(t.width, t.height);
+    const double rho = std::max(glm::length((st_dx - st) * size), glm::length((st_dy - st) * size));
+    return rho > 1.0 ? std::log2(rho) : 0.0;
+}
+
+// Where the rays of the pixel's right and lower neighbours meet the tangent plane (world space).
+struct Footprint {
+    bool valid = false;
+    glm::dvec3 dx{0.0}, dy{0.0};
+};
+
 struct DecalSample {
     glm::dvec4 colour{0.0};  // premultiplied, alpha scaled by falloff and fades
     bool ambiguous = false;
@@ -243,9 +265,18 @@ struct DecalSample {
 
 // One decal at world point P: the conventions of docs/conventions.md written out in double.
 DecalSample sampleDecal(const Decal& decal, const glm::dmat4& world_to_local, const Texture2D* texture,
-                        const glm::dvec3& P, const std::optional<glm::dvec3>& normal, double slack) {
+                        const std::vector<Texture2D>* chain, const glm::dvec3& P, const std::optional<glm::dvec3>& normal,
+                        const Footprint& footprint, double slack) {
     DecalSample out;
     const glm::dvec3 l(world_to_local * glm::dvec4(P, 1.0));
+    const glm::dvec3 lx(world_to_local * glm::dvec4(footprint.dx, 1.0)), ly(world_to_local * glm::dvec4(footprint.dy, 1.0));
+    // A 2D lookup through `st_of` (local point -> s, t); mip level from the footprint's mapping.
+    auto lookup2d = [&](auto st_of) {
+        const glm::dvec2 st = st_of(l);
+        if (decal.filter != TextureFilter::Mip) return sampleTexture(*texture, st.x, st.y, decal.filter);
+        const double lod = footprint.valid ? levelOfDetail(st, st_of(lx), st_of(ly), *texture) : 1e9;
+        return sampleMip(*chain, st.x, st.y, 0, lod);
+    };
     double fade = 1.0;
     auto nearEdge = [&](double coord, int size) {
         const double x = coord * size;
@@ -270,10 +301,12 @@ DecalSample sampleDecal(const Decal& decal, const glm::dmat4& world_to_local, co
             const double s = l.x + 0.5, t = 0.5 - l.y, r = l.z + 0.5;
             out.ambiguous |= nearEdge(s, texture->width) || nearEdge(t, texture->height);
             if (decal.kind == DecalKind::Box) {
-                out.colour = sampleTexture(*texture, s, t, decal.filter);
+                out.colour = lookup2d([](const glm::dvec3& v) { return glm::dvec2(v.x + 0.5, 0.5 - v.y); });
             } else {
                 out.ambiguous |= nearEdge(r, texture->depth);
-                out.colour = sampleVolume(*texture, s, t, r, decal.filter);
+                // volumes have no mip chain of their own: "mip" samples level 0 trilinearly
+                out.colour = sampleVolume(*texture, s, t, r,
+                                          decal.filter == TextureFilter::Nearest ? TextureFilter::Nearest : TextureFilter::Linear);
             }
             break;
         }
@@ -289,7 +322,11 @@ DecalSample sampleDecal(const Decal& decal, const glm::dmat4& world_to_local, co
             fade *= angleFade(glm::normalize(glm::dvec3(decal.world_matrix[3]) - P));
             const double s = 0.5 + l.x / (2.0 * half_w), t = 0.5 - l.y / (2.0 * half_h);
             out.ambiguous |= nearEdge(s, texture->width) || nearEdge(t, texture->height);
-            out.colour = sampleTexture(*texture, s, t, decal.filter);
+            const double tan_half = std::tan(glm::radians(decal.fov_y_deg) / 2.0), aspect = decal.aspect;
+            out.colour = lookup2d([&](const glm::dvec3& v) {
+                const double hh = -v.z * tan_half;
+                return glm::dvec2(0.5 + v.x / (2.0 * hh * aspect), 0.5 - v.y / (2.0 * hh));
+            });
             break;
         }
         case DecalKind::Cube: {
@@ -308,12 +345,50 @@ DecalSample sampleDecal(const Decal& decal, const glm::dmat4& world_to_local, co
             if (decal.filter == TextureFilter::Nearest)
                 for (const auto& [coord, size] : {std::pair{c.s, texture->width}, std::pair{c.t, texture->height}})
                     out.ambiguous |= std::abs(coord * size - std::round(coord * size)) <= direction_slack * size;
-            out.colour = sampleCube(*texture, l / r, decal.filter);
+            if (decal.filter != TextureFilter::Mip) {
+                out.colour = sampleCube(*texture, l / r, decal.filter);
+            } else {
+                // the footprint's directions measured on this pixel's face, even past its edge
+                auto on_face = [&](const glm::dvec3& v) {
+                    const double ma[6] = {v.x, -v.x, v.y, -v.y, v.z, -v.z};
+                    const double sc[6] = {-v.z, v.z, v.x, v.x, v.x, -v.x};
+                    const double tc[6] = {-v.y, -v.y, v.z, -v.z, -v.y, -v.y};
+                    return glm::dvec2(0.5 * (sc[c.face] / ma[c.face] + 1.0), 0.5 * (tc[c.face] / ma[c.face] + 1.0));
+                };
+                const double lod =
+                    footprint.valid ? levelOfDetail(glm::dvec2(c.s, c.t), on_face(lx), on_face(ly), *texture) : 1e9;
+                out.colour = sampleMip(*chain, c.s, c.t, c.face, lod);
+            }
             break;
         }
     }
     out.colour *= fade;
     return out;
+}
+
+}  // namespace
+
+namespace {
+
+// The neighbours' rays (x+1, y) and (x, y+1) against the plane through P with normal n, in world space.
+Footprint pixelFootprint(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection, int x, int y,
+                         const glm::dvec3& P, const glm::dvec3& n) {
+    const glm::dmat4 camera_to_world = glm::inverse(camera.world_to_camera);
+    Footprint fp;
+    for (int a = 0; a < 2; ++a) {
+        const glm::dvec2 ndc = pixelNdc(f, x + (a == 0), y + (a == 1));
+        const glm::dvec3 far_cam = unproject(inverse_projection, ndc, 1.0);
+        const glm::dvec3 origin_cam = camera.isOrthographic() ? unproject(inverse_projection, ndc, -1.0) : glm::dvec3(0.0);
+        const glm::dvec3 origin(camera_to_world * glm::dvec4(origin_cam, 1.0));
+        const glm::dvec3 dir(camera_to_world * glm::dvec4(far_cam - origin_cam, 0.0));
+        const double denom = glm::dot(dir, n);
+        if (!(std::abs(denom) > 1e-6 * glm::length(dir))) return fp;
+        const double t = glm::dot(P - origin, n) / denom;
+        if (!(t > 0.0)) return fp;
+        (a == 0 ? fp.dx : fp.dy) = origin + dir * t;
+    }
+    fp.valid = true;
+    return fp;
 }
 
 }  // namespace
@@ -332,8 +407,12 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
         scale.push_back(row_norm);
     }
     const bool has_normal = frame.has(Attribute::Normal);
-    const bool angle_fades = std::any_of(scene.decals.begin(), scene.decals.end(),
-                                         [](const Decal& d) { return d.angle_fade_deg[1] > 0.0; });
+    const bool angle_fades = std::any_of(scene.decals.begin(), scene.decals.end(), [](const Decal& d) {
+        return d.angle_fade_deg[1] > 0.0 || d.filter == TextureFilter::Mip;  // both need normals
+    });
+    std::vector<std::vector<Texture2D>> chains;
+    for (const Texture2D& t : scene.textures) chains.push_back(mipChain(t));
+    const glm::dmat4 inverse_projection = glm::inverse(camera.projection);
     const glm::dmat4 camera_to_world = glm::inverse(camera.world_to_camera);
     const glm::dvec3 camera_position(glm::inverse(camera.world_to_camera)[3]);
     for (int y = 0; y < frame.height; ++y)
@@ -350,6 +429,8 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                 const glm::dvec3 n_cam = normalFromDepth(frame, camera, x, y, *cameraPoint(frame, camera, x, y), normal_tie);
                 normal = glm::normalize(glm::dvec3(camera_to_world * glm::dvec4(n_cam, 0.0)));
             }
+            Footprint footprint;
+            if (normal) footprint = pixelFootprint(frame, camera, inverse_projection, x, y, *p, *normal);
             glm::dvec3 albedo(result.albedo.at(i, 0), result.albedo.at(i, 1), result.albedo.at(i, 2));
             for (std::size_t k = 0; k < scene.decals.size(); ++k) {
                 const Decal& decal = scene.decals[k];
@@ -357,7 +438,9 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                 const double slack = margin * scale[k] * (1.0 + glm::length(*p - camera_position));
                 const Texture2D* texture =
                     decal.albedo_texture >= 0 ? &scene.textures[std::size_t(decal.albedo_texture)] : nullptr;
-                const DecalSample sample = sampleDecal(decal, world_to_local[k], texture, *p, normal, slack);
+                const std::vector<Texture2D>* chain =
+                    decal.albedo_texture >= 0 ? &chains[std::size_t(decal.albedo_texture)] : nullptr;
+                const DecalSample sample = sampleDecal(decal, world_to_local[k], texture, chain, *p, normal, footprint, slack);
                 if (sample.ambiguous) result.ambiguous[i] = 1;
                 if (normal_tie && decal.angle_fade_deg[1] > 0.0 && sample.colour.a > 0.0) result.ambiguous[i] = 1;
                 if (!(sample.colour.a > 0.0)) continue;

@@ -210,8 +210,8 @@ private:
         const std::string name = string(v, path);
         if (name == "nearest") return TextureFilter::Nearest;
         if (name == "linear") return TextureFilter::Linear;
-        if (name == "mip") fail(path, "'mip' is not supported yet (supported: nearest, linear)");
-        fail(path, fmt::format("unknown filter '{}' (supported: nearest, linear)", name));
+        if (name == "mip") return TextureFilter::Mip;
+        fail(path, fmt::format("unknown filter '{}' (supported: nearest, linear, mip)", name));
     }
 
     // Top-level "filter", or the neutral format's "interpolation" (Cycles names), sets the default.
