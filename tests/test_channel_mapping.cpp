@@ -182,8 +182,8 @@ TEST(ChannelMapping, RequestedProfileIsObeyed) {
     EXPECT_TRUE(b.attributes.empty());
 
     MappingOptions unknown;
-    unknown.profile = "arnold";
-    EXPECT_NE(inputErrorMessage(plain, unknown).find("unknown channel profile 'arnold'"), std::string::npos);
+    unknown.profile = "maya";
+    EXPECT_NE(inputErrorMessage(plain, unknown).find("unknown channel profile 'maya'"), std::string::npos);
 }
 
 TEST(ChannelMapping, ExplicitChannelsOverrideTheProfile) {

@@ -111,7 +111,13 @@ TEST(Cli, SingularCameraMatrix) {
 }
 
 TEST(Cli, NoCameraAnywhere) {
-    expectCompositeFails(blender("gbuffer.exr") + " --decals " + blender("scene.json"), 3, "camera");
+    // No sidecar, no header camera and no position pass to solve one from.
+    test::ScratchDir inputs;
+    const std::string path = inputs.file("no_position.exr");
+    const auto gen = test::runCommand(shellQuote(DECALCOMP_GEN) + " --width 32 --height 24 --no-position -o " +
+                                      shellQuote(path));
+    ASSERT_EQ(gen.exit_code, 0) << gen.output;
+    expectCompositeFails(shellQuote(path) + " --decals " + blender("scene.json"), 3, "no position pass");
 }
 
 TEST(Cli, UnwritableOutputLeavesNothing) {

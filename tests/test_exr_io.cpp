@@ -13,6 +13,7 @@
 #include <OpenEXR/ImfTiledOutputFile.h>
 #include <OpenEXR/ImfTiledOutputPart.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -21,6 +22,7 @@
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_io.hpp"
+#include "io/exr_layout.hpp"
 #include "support/test_support.hpp"
 
 namespace decalcomp {
@@ -506,21 +508,48 @@ TEST(ExrIo, SubsampledChannelCannotBeMapped) {
     EXPECT_NE(std::string(e.what()).find("channel chroma: subsampled"), std::string::npos) << e.what();
 }
 
-TEST(ExrIo, MappedChannelsMustShareOneDataWindow) {
+// A pass with another data window is resampled onto the depth pass's window (background where it
+// has no data) and stored back into its own window.
+TEST(ExrIo, PassesWithOtherDataWindowsAreResampledOntoTheDepthWindow) {
     ScratchDir dir;
     FixturePart a{makeHeader(16, 8, Imf::ZIP_COMPRESSION), {{"Z", Imf::FLOAT}}};
     a.header.setName("depth");
     FixturePart b{makeHeader(16, 8, Imf::ZIP_COMPRESSION), {{"R", Imf::HALF}, {"G", Imf::HALF}, {"B", Imf::HALF}}};
     b.header.setName("albedo");
-    b.header.dataWindow() = Imath::Box2i({0, 0}, {7, 7});
+    b.header.dataWindow() = Imath::Box2i({4, 2}, {11, 9});  // reaches below the display window
     for (FixturePart* part : {&a, &b})
         for (FixtureChannel& c : part->channels) fillRandom(part->header.dataWindow(), c, 3);
     writeFixture(dir.file("in.exr"), {a, b});
-    const ExrImage image = readExr(dir.file("in.exr"));
+    ExrImage image = readExr(dir.file("in.exr"));
+    const ExrImage original = image;
     const ChannelMapping mapping = mapChannels(image, MappingOptions{});
     ASSERT_TRUE(mapping.attributes.count(Attribute::Depth) && mapping.attributes.count(Attribute::Albedo));
-    const Error e = expectError(ErrorKind::Input, [&] { extractGBuffer(image, mapping); });
-    EXPECT_NE(std::string(e.what()).find("channel albedo.R: data window"), std::string::npos) << e.what();
+    GBuffer gb = extractGBuffer(image, mapping);
+    EXPECT_EQ(gb.width, 16);
+    EXPECT_EQ(gb.height, 8);
+    EXPECT_EQ(gb.origin_x, 0);
+    const Plane& albedo = gb.planes.at(Attribute::Albedo);
+    const ExrChannel& red = channelNamed(image.parts[1], "R");
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x) {
+            const std::size_t i = std::size_t(y) * 16 + x;
+            const bool covered = x >= 4 && x <= 11 && y >= 2;
+            const float expected = covered ? io::sampleAsFloat(red, std::size_t(y - 2) * 8 + (x - 4)) : 0.0f;
+            if (std::isnan(expected)) EXPECT_TRUE(std::isnan(albedo.at(i, 0)));
+            else EXPECT_EQ(albedo.at(i, 0), expected) << x << "," << y;
+        }
+
+    // Storing: every G-buffer pixel changes; the albedo rows below the G-buffer keep their bits.
+    for (float& v : gb.planes.at(Attribute::Albedo).samples) v = 0.25f;
+    storeAttribute(image, mapping, Attribute::Albedo, gb.planes.at(Attribute::Albedo));
+    const ExrChannel& stored = channelNamed(image.parts[1], "R");
+    const ExrChannel& before = channelNamed(original.parts[1], "R");
+    for (int y = 2; y <= 9; ++y)
+        for (int x = 4; x <= 11; ++x) {
+            const std::size_t i = std::size_t(y - 2) * 8 + (x - 4);
+            if (y <= 7) EXPECT_EQ(io::sampleAsFloat(stored, i), 0.25f);
+            else EXPECT_EQ(std::memcmp(stored.bytes.data() + 2 * i, before.bytes.data() + 2 * i, 2), 0) << x << "," << y;
+        }
 }
 
 }  // namespace

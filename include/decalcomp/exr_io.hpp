@@ -43,41 +43,91 @@ ExrImage readExr(const std::string& path);
 // folder, renamed into place only when complete. Throws Error(Output) naming the file.
 void writeExrAtomic(const ExrImage& image, const std::string& path);
 
-// ---- channel mapping (renderer profiles) ----
+// The two halves of writeExrAtomic, for several outputs that should appear together: writes the
+// temporary beside `path` and returns its name (Error(Output) on failure, nothing left behind);
+// commitExrTemporary renames it into place, discardExrTemporary removes it.
+std::string writeExrTemporary(const ExrImage& image, const std::string& path);
+void commitExrTemporary(const std::string& temporary, const std::string& path);
+void discardExrTemporary(const std::string& temporary) noexcept;
+
+// ---- channel mapping (renderer profiles, docs/profiles.md) ----
 
 struct ChannelRef {
     int part = -1;
     int channel = -1;
+    int file = 0;  // index into the frame's files (always 0 for a single file)
 };
 
 struct MappingOptions {
-    std::string profile = "auto";  // auto | blender | generic
-    std::string layer;             // Blender view layer to use when a file has several
+    std::string profile = "auto";            // auto, or a profile name (built-in or from profile_files)
+    std::vector<std::string> profile_files;  // --profile-file: user profiles, considered first
+    std::string layer;                       // layer for "{layer}" patterns when a file has several
     // --channel albedo=a.R,a.G,a.B : explicit channels per attribute, in component order
     std::map<Attribute, std::vector<std::string>> explicit_channels;
     std::optional<DepthConvention> depth_convention;  // explicit wins over the profile default
     bool reversed_z = false;
 };
 
-struct ChannelMapping {
-    std::string profile;             // the profile that matched ("blender", "generic")
-    std::vector<std::string> notes;  // human-readable reasons, for `decalcomp info`
-    std::map<Attribute, std::vector<ChannelRef>> attributes;  // components in order
-    DepthConvention depth_convention = DepthConvention::Planar;
-    bool reversed_z = false;
+// How several files make one frame: files[0, positional) are pooled and mapped through the profile
+// (0 = every file); an attribute listed in pass_files is read from that file only (--pass).
+struct FileRoles {
+    int positional = 0;
+    std::map<Attribute, int> pass_files;
 };
 
-// Throws Error(Input) for unknown profiles, explicit channels that do not exist, ambiguous layers.
+struct ProfileCandidate {
+    std::string name;
+    double score = 0.0;
+    std::vector<std::string> reasons;  // "depth", "albedo", "header BlenderMultiChannel", ...
+};
+
+struct ChannelMapping {
+    std::string profile;             // the profile that matched ("blender", "generic", ...)
+    std::string layer;               // the layer "{layer}" stood for ("" when none)
+    std::vector<std::string> notes;  // human-readable reasons, for `decalcomp info`
+    std::vector<ProfileCandidate> candidates;  // every profile's detection score, best first
+    std::map<Attribute, std::vector<ChannelRef>> attributes;  // components in order
+    DepthConvention depth_convention = DepthConvention::Planar;
+    bool depth_convention_explicit = false;  // from --depth, not a default
+    bool reversed_z = false;
+    std::string normal_space = "world";      // of the mapped normal channels: world | camera
+    std::string normal_encoding = "signed";  // signed | unsigned (n * 0.5 + 0.5)
+};
+
+// Throws Error(Input) for unknown profiles, explicit channels that do not exist, ambiguous layers,
+// a pass file without the attribute's channels.
 ChannelMapping mapChannels(const ExrImage& image, const MappingOptions& options);
+ChannelMapping mapChannels(const std::vector<ExrImage>& files, const MappingOptions& options,
+                           const FileRoles& roles = {});
 
-// Converts the mapped channels to float planes. Throws Error(Input) naming the file and channel
-// when mapped channels have different data windows, subsampling, or the UINT type where a float
-// attribute is expected (ObjectId accepts all types).
+// The pixels a G-buffer covers, in absolute EXR coordinates: the data window of the depth pass
+// (else position, else albedo, else the first mapped attribute), and the display window all
+// mapped parts share. Throws Error(Input) when mapped parts have different display windows.
+struct FrameWindow {
+    Imath::Box2i data, display;
+    std::string owner;  // "depth (in.exr)", for messages
+};
+FrameWindow frameWindow(const std::vector<ExrImage>& files, const ChannelMapping& mapping);
+
+// Reads channels as one interleaved float plane over `window`; pixels outside a channel's own data
+// window get `fill`. Throws Error(Input) for subsampled channels, and for UINT channels unless
+// allow_uint (ID-like data).
+Plane readChannelsOnWindow(const std::vector<ExrImage>& files, const std::vector<ChannelRef>& refs,
+                           const Imath::Box2i& window, float fill, bool allow_uint, const std::string& label);
+
+// Converts the mapped channels to float planes over frameWindow(). A pass whose data window differs
+// (crop, overscan) is resampled onto it: pixels it does not cover get background (position NaN,
+// other attributes 0). Throws Error(Input) naming the file and channel for subsampled channels,
+// UINT where a float attribute is expected (ObjectId accepts all types), display windows that differ.
 GBuffer extractGBuffer(const ExrImage& image, const ChannelMapping& mapping);
+GBuffer extractGBuffer(const std::vector<ExrImage>& files, const ChannelMapping& mapping);
 
-// Writes a float plane back into the attribute's mapped channels, converting to each channel's
-// own sample type. Pixels whose float value equals the original conversion stay bit-exact.
+// Writes a float plane (over frameWindow()) back into the attribute's mapped channels, converting
+// to each channel's own sample type; channel pixels outside the G-buffer window are left alone.
+// Pixels whose float value equals the original conversion stay bit-exact.
 void storeAttribute(ExrImage& image, const ChannelMapping& mapping, Attribute attribute,
+                    const Plane& plane);
+void storeAttribute(std::vector<ExrImage>& files, const ChannelMapping& mapping, Attribute attribute,
                     const Plane& plane);
 
 // ---- cameras in EXR headers ----

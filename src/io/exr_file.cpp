@@ -156,19 +156,37 @@ ExrImage readExr(const std::string& path) {
     return image;
 }
 
-void writeExrAtomic(const ExrImage& image, const std::string& path) {
+std::string writeExrTemporary(const ExrImage& image, const std::string& path) {
     if (image.parts.empty()) throw outputError(fmt::format("{}: nothing to write (no parts)", path));
     for (int i = 0; i < int(image.parts.size()); ++i) validatePart(image.parts[i], i, path);
 
     const std::filesystem::path temporary = temporaryPathFor(path);
     try {
         writeParts(image, temporary.string());
-        std::filesystem::rename(temporary, path);
     } catch (const std::exception& e) {
         std::error_code ignored;
         std::filesystem::remove(temporary, ignored);
         throw outputError(fmt::format("{}: cannot write: {}", path, io::oneLine(e.what())));
     }
+    return temporary.string();
+}
+
+void commitExrTemporary(const std::string& temporary, const std::string& path) {
+    std::error_code ec;
+    std::filesystem::rename(temporary, path, ec);
+    if (ec) {
+        discardExrTemporary(temporary);
+        throw outputError(fmt::format("{}: cannot write: {}", path, ec.message()));
+    }
+}
+
+void discardExrTemporary(const std::string& temporary) noexcept {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+}
+
+void writeExrAtomic(const ExrImage& image, const std::string& path) {
+    commitExrTemporary(writeExrTemporary(image, path), path);
 }
 
 }  // namespace decalcomp

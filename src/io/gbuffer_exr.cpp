@@ -1,7 +1,11 @@
-// extractGBuffer / storeAttribute: mapped EXR channels <-> float attribute planes.
+// extractGBuffer / storeAttribute: mapped EXR channels (one file or several, any data windows)
+// <-> float attribute planes over one G-buffer window.
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_io.hpp"
@@ -11,112 +15,204 @@ namespace decalcomp {
 
 namespace {
 
+using Files = std::vector<const ExrImage*>;
+
 std::string windowText(const Imath::Box2i& w) {
     return fmt::format("({},{})-({},{})", w.min.x, w.min.y, w.max.x, w.max.y);
 }
 
-const ExrChannel& channelAt(const ExrImage& image, const ChannelRef& ref, Attribute attribute) {
+const ExrImage& fileAt(const Files& files, const ChannelRef& ref, const std::string& label) {
+    if (ref.file < 0 || ref.file >= int(files.size()))
+        throw inputError(fmt::format("{}: channel reference to file {} of {}", label, ref.file, files.size()));
+    return *files[ref.file];
+}
+
+const ExrChannel& channelAt(const Files& files, const ChannelRef& ref, const std::string& label) {
+    const ExrImage& image = fileAt(files, ref, label);
     if (ref.part < 0 || ref.part >= int(image.parts.size()) || ref.channel < 0 ||
         ref.channel >= int(image.parts[ref.part].channels.size()))
-        throw inputError(fmt::format("{}: {}: channel reference (part {}, channel {}) out of range", image.path,
-                                     attributeName(attribute), ref.part, ref.channel));
+        throw inputError(fmt::format("{}: {}: channel reference (part {}, channel {}) out of range", image.path, label,
+                                     ref.part, ref.channel));
     return image.parts[ref.part].channels[ref.channel];
 }
 
-// The part whose windows define the G-buffer: the first mapped channel's, else the first part.
-int referencePart(const ChannelMapping& mapping) {
+const Imf::Header& headerOf(const Files& files, const ChannelRef& ref) { return files[ref.file]->parts[ref.part].header; }
+
+// The attribute whose data window becomes the G-buffer's: the one that says where geometry is.
+std::optional<Attribute> referenceAttribute(const ChannelMapping& mapping) {
+    for (Attribute a : {Attribute::Depth, Attribute::Position, Attribute::Albedo})
+        if (auto it = mapping.attributes.find(a); it != mapping.attributes.end() && !it->second.empty()) return a;
     for (const auto& [attribute, refs] : mapping.attributes)
-        if (!refs.empty()) return refs.front().part;
-    return 0;
+        if (!refs.empty()) return attribute;
+    return std::nullopt;
 }
 
-// Every mapped channel must cover the same pixels at full resolution, in a usable type.
-void checkChannel(const ExrImage& image, const ChannelRef& ref, Attribute attribute, const Imath::Box2i& window,
-                  const std::string& window_owner) {
-    const ExrChannel& channel = channelAt(image, ref, attribute);
-    const Imath::Box2i dw = image.parts[ref.part].header.dataWindow();
-    if (dw != window)
-        throw inputError(fmt::format("{}: channel {}: data window {} differs from {} of {}", image.path,
-                                     channel.qualified, windowText(dw), windowText(window), window_owner));
+FrameWindow windowOf(const Files& files, const ChannelMapping& mapping) {
+    if (files.empty() || files.front()->parts.empty())
+        throw inputError(fmt::format("{}: no image parts", files.empty() ? std::string("input") : files.front()->path));
+    FrameWindow window;
+    const auto reference = referenceAttribute(mapping);
+    if (!reference) {
+        const Imf::Header& header = files.front()->parts.front().header;
+        window.data = header.dataWindow();
+        window.display = header.displayWindow();
+        window.owner = files.front()->path;
+        return window;
+    }
+    const ChannelRef& ref = mapping.attributes.at(*reference).front();
+    channelAt(files, ref, attributeName(*reference));
+    window.data = headerOf(files, ref).dataWindow();
+    window.display = headerOf(files, ref).displayWindow();
+    window.owner = fmt::format("{} ({})", attributeName(*reference), files[ref.file]->path);
+    // NDC is defined over the display window, so every pass must agree on it.
+    for (const auto& [attribute, refs] : mapping.attributes)
+        for (const ChannelRef& r : refs) {
+            const ExrChannel& channel = channelAt(files, r, attributeName(attribute));
+            const Imath::Box2i display = headerOf(files, r).displayWindow();
+            if (display != window.display)
+                throw inputError(fmt::format("{}: channel {}: display window {} differs from {} of {}",
+                                             files[r.file]->path, channel.qualified, windowText(display),
+                                             windowText(window.display), window.owner));
+        }
+    return window;
+}
+
+// Mapped channels must be full resolution, and float attributes need float samples.
+void checkChannel(const Files& files, const ChannelRef& ref, bool allow_uint, const std::string& label) {
+    const ExrChannel& channel = channelAt(files, ref, label);
+    const std::string& path = files[ref.file]->path;
     if (channel.x_sampling != 1 || channel.y_sampling != 1)
-        throw inputError(fmt::format("{}: channel {}: subsampled ({}x{}); {} needs full resolution", image.path,
-                                     channel.qualified, channel.x_sampling, channel.y_sampling,
-                                     attributeName(attribute)));
-    if (channel.type == SampleType::Uint && attribute != Attribute::ObjectId)
-        throw inputError(fmt::format("{}: channel {}: UINT is the wrong type for {} (expected HALF or FLOAT)",
-                                     image.path, channel.qualified, attributeName(attribute)));
+        throw inputError(fmt::format("{}: channel {}: subsampled ({}x{}); {} needs full resolution", path,
+                                     channel.qualified, channel.x_sampling, channel.y_sampling, label));
+    if (channel.type == SampleType::Uint && !allow_uint)
+        throw inputError(fmt::format("{}: channel {}: UINT is the wrong type for {} (expected HALF or FLOAT)", path,
+                                     channel.qualified, label));
 }
 
-Plane extractPlane(const ExrImage& image, const std::vector<ChannelRef>& refs, Attribute attribute,
-                   std::size_t pixels) {
+Plane readOnWindow(const Files& files, const std::vector<ChannelRef>& refs, const Imath::Box2i& window, float fill,
+                   bool allow_uint, const std::string& label) {
+    const std::size_t width = std::size_t(window.max.x - window.min.x + 1);
+    const std::size_t height = std::size_t(window.max.y - window.min.y + 1);
     Plane plane;
     plane.components = int(refs.size());
-    plane.samples.resize(pixels * refs.size());
+    plane.samples.assign(width * height * refs.size(), fill);
     for (int c = 0; c < plane.components; ++c) {
-        const ExrChannel& channel = channelAt(image, refs[c], attribute);
-        for (std::size_t i = 0; i < pixels; ++i) plane.at(i, c) = io::sampleAsFloat(channel, i);
+        checkChannel(files, refs[c], allow_uint, label);
+        const ExrChannel& channel = channelAt(files, refs[c], label);
+        const Imath::Box2i dw = headerOf(files, refs[c]).dataWindow();
+        const long long channel_width = (long long)dw.max.x - dw.min.x + 1;
+        // The overlap of the two windows, row by row.
+        const int x0 = std::max(window.min.x, dw.min.x), x1 = std::min(window.max.x, dw.max.x);
+        const int y0 = std::max(window.min.y, dw.min.y), y1 = std::min(window.max.y, dw.max.y);
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) {
+                const std::size_t src = std::size_t((long long)(y - dw.min.y) * channel_width + (x - dw.min.x));
+                const std::size_t dst = std::size_t(y - window.min.y) * width + std::size_t(x - window.min.x);
+                plane.at(dst, c) = io::sampleAsFloat(channel, src);
+            }
     }
     return plane;
 }
 
-bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+// Background where a pass has no data: NaN position (the position convention's background),
+// +inf depth, 0 elsewhere.
+float fillFor(Attribute attribute) {
+    if (attribute == Attribute::Position) return std::numeric_limits<float>::quiet_NaN();
+    if (attribute == Attribute::Depth) return std::numeric_limits<float>::infinity();
+    return 0.0f;
+}
 
-}  // namespace
-
-GBuffer extractGBuffer(const ExrImage& image, const ChannelMapping& mapping) {
-    if (image.parts.empty()) throw inputError(fmt::format("{}: no image parts", image.path));
-    const int reference = referencePart(mapping);
-    if (reference < 0 || reference >= int(image.parts.size()))
-        throw inputError(fmt::format("{}: channel mapping refers to part {} of {}", image.path, reference,
-                                     image.parts.size()));
-    const Imf::Header& header = image.parts[reference].header;
-    const Imath::Box2i window = header.dataWindow();
-    const Imath::Box2i display = header.displayWindow();
-
-    std::string window_owner = fmt::format("part {}", reference);
-    for (const auto& [attribute, refs] : mapping.attributes) {
-        for (const ChannelRef& ref : refs) {
-            checkChannel(image, ref, attribute, window, window_owner);
-            window_owner = "channel " + channelAt(image, ref, attribute).qualified;
-        }
-    }
-
+GBuffer extract(const Files& files, const ChannelMapping& mapping) {
+    const FrameWindow window = windowOf(files, mapping);
     GBuffer gbuffer;
-    gbuffer.width = window.max.x - window.min.x + 1;
-    gbuffer.height = window.max.y - window.min.y + 1;
-    gbuffer.origin_x = window.min.x - display.min.x;
-    gbuffer.origin_y = window.min.y - display.min.y;
-    gbuffer.display_width = display.max.x - display.min.x + 1;
-    gbuffer.display_height = display.max.y - display.min.y + 1;
+    gbuffer.width = window.data.max.x - window.data.min.x + 1;
+    gbuffer.height = window.data.max.y - window.data.min.y + 1;
+    gbuffer.origin_x = window.data.min.x - window.display.min.x;
+    gbuffer.origin_y = window.data.min.y - window.display.min.y;
+    gbuffer.display_width = window.display.max.x - window.display.min.x + 1;
+    gbuffer.display_height = window.display.max.y - window.display.min.y + 1;
+    if (gbuffer.width <= 0 || gbuffer.height <= 0 || gbuffer.display_width <= 0 || gbuffer.display_height <= 0)
+        throw inputError(fmt::format("{}: empty data or display window", window.owner));
     gbuffer.depth_convention = mapping.depth_convention;
     gbuffer.reversed_z = mapping.reversed_z;
     for (const auto& [attribute, refs] : mapping.attributes)
-        gbuffer.planes[attribute] = extractPlane(image, refs, attribute, gbuffer.pixelCount());
+        gbuffer.planes[attribute] = readOnWindow(files, refs, window.data, fillFor(attribute),
+                                                 attribute == Attribute::ObjectId, attributeName(attribute));
     return gbuffer;
 }
 
-void storeAttribute(ExrImage& image, const ChannelMapping& mapping, Attribute attribute, const Plane& plane) {
+bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void store(const std::vector<ExrImage*>& files, const ChannelMapping& mapping, Attribute attribute, const Plane& plane) {
+    Files view(files.begin(), files.end());
+    const std::string label = attributeName(attribute);
     auto found = mapping.attributes.find(attribute);
     if (found == mapping.attributes.end())
-        throw outputError(fmt::format("{}: {}: attribute is not mapped to any channel", image.path,
-                                      attributeName(attribute)));
+        throw outputError(fmt::format("{}: {}: attribute is not mapped to any channel", files.front()->path, label));
     const std::vector<ChannelRef>& refs = found->second;
     if (plane.components != int(refs.size()))
-        throw outputError(fmt::format("{}: {}: plane has {} components, mapping has {} channels", image.path,
-                                      attributeName(attribute), plane.components, refs.size()));
+        throw outputError(fmt::format("{}: {}: plane has {} components, mapping has {} channels", files.front()->path,
+                                      label, plane.components, refs.size()));
+    const Imath::Box2i window = windowOf(view, mapping).data;
+    const std::size_t width = std::size_t(window.max.x - window.min.x + 1);
+    const std::size_t height = std::size_t(window.max.y - window.min.y + 1);
+    if (plane.samples.size() != width * height * refs.size())
+        throw outputError(fmt::format("{}: {}: plane has {} samples, the G-buffer window {} has {} pixels",
+                                      files.front()->path, label, plane.samples.size(), windowText(window),
+                                      width * height));
     for (int c = 0; c < plane.components; ++c) {
-        channelAt(image, refs[c], attribute);  // range check before taking a mutable reference
+        channelAt(view, refs[c], label);  // range check before taking a mutable reference
+        ExrImage& image = *files[refs[c].file];
         ExrChannel& channel = image.parts[refs[c].part].channels[refs[c].channel];
-        const std::size_t count = channel.bytes.size() / io::sampleSize(channel.type);
-        if (plane.samples.size() != count * refs.size())
-            throw outputError(fmt::format("{}: channel {}: plane has {} samples, channel has {} pixels",
-                                          image.path, channel.qualified, plane.samples.size(), count));
+        const Imath::Box2i dw = image.parts[refs[c].part].header.dataWindow();
+        if (channel.x_sampling != 1 || channel.y_sampling != 1)
+            throw outputError(fmt::format("{}: channel {}: subsampled", image.path, channel.qualified));
+        const long long channel_width = (long long)dw.max.x - dw.min.x + 1;
+        const int x0 = std::max(window.min.x, dw.min.x), x1 = std::min(window.max.x, dw.max.x);
+        const int y0 = std::max(window.min.y, dw.min.y), y1 = std::min(window.max.y, dw.max.y);
         // Only changed pixels are re-encoded, so untouched ones keep their exact original bits.
-        for (std::size_t i = 0; i < count; ++i) {
-            const float value = plane.at(i, c);
-            if (!sameBits(value, io::sampleAsFloat(channel, i))) io::storeSample(channel, i, value);
-        }
+        for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) {
+                const std::size_t dst = std::size_t((long long)(y - dw.min.y) * channel_width + (x - dw.min.x));
+                const std::size_t src = std::size_t(y - window.min.y) * width + std::size_t(x - window.min.x);
+                const float value = plane.at(src, c);
+                if (!sameBits(value, io::sampleAsFloat(channel, dst))) io::storeSample(channel, dst, value);
+            }
     }
+}
+
+}  // namespace
+
+FrameWindow frameWindow(const std::vector<ExrImage>& files, const ChannelMapping& mapping) {
+    Files view;
+    for (const ExrImage& f : files) view.push_back(&f);
+    return windowOf(view, mapping);
+}
+
+Plane readChannelsOnWindow(const std::vector<ExrImage>& files, const std::vector<ChannelRef>& refs,
+                           const Imath::Box2i& window, float fill, bool allow_uint, const std::string& label) {
+    Files view;
+    for (const ExrImage& f : files) view.push_back(&f);
+    return readOnWindow(view, refs, window, fill, allow_uint, label);
+}
+
+GBuffer extractGBuffer(const ExrImage& image, const ChannelMapping& mapping) { return extract({&image}, mapping); }
+
+GBuffer extractGBuffer(const std::vector<ExrImage>& files, const ChannelMapping& mapping) {
+    Files view;
+    for (const ExrImage& f : files) view.push_back(&f);
+    return extract(view, mapping);
+}
+
+void storeAttribute(ExrImage& image, const ChannelMapping& mapping, Attribute attribute, const Plane& plane) {
+    store({&image}, mapping, attribute, plane);
+}
+
+void storeAttribute(std::vector<ExrImage>& files, const ChannelMapping& mapping, Attribute attribute,
+                    const Plane& plane) {
+    std::vector<ExrImage*> view;
+    for (ExrImage& f : files) view.push_back(&f);
+    store(view, mapping, attribute, plane);
 }
 
 }  // namespace decalcomp

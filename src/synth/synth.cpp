@@ -72,8 +72,12 @@ glm::vec3 shadeAlbedo(const Material& m, glm::dvec3 p) {
 
 GBuffer render(const Scene& scene, const Camera& camera, const RenderOptions& options) {
     GBuffer g;
-    g.width = g.display_width = options.width;
-    g.height = g.display_height = options.height;
+    g.width = options.width;
+    g.height = options.height;
+    g.display_width = options.display_width > 0 ? options.display_width : options.width;
+    g.display_height = options.display_height > 0 ? options.display_height : options.height;
+    g.origin_x = options.origin_x;
+    g.origin_y = options.origin_y;
     g.depth_convention = options.depth;
     g.reversed_z = options.reversed_z;
     const std::size_t n = g.pixelCount();
@@ -96,7 +100,8 @@ GBuffer render(const Scene& scene, const Camera& camera, const RenderOptions& op
     const bool ortho = camera.isOrthographic();
     for (int y = 0; y < g.height; ++y)
         for (int x = 0; x < g.width; ++x) {
-            const glm::dvec2 ndc(2.0 * (x + 0.5) / g.width - 1.0, 1.0 - 2.0 * (y + 0.5) / g.height);
+            const int dx = x + g.origin_x, dy = y + g.origin_y;  // display pixel
+            const glm::dvec2 ndc(2.0 * (dx + 0.5) / g.display_width - 1.0, 1.0 - 2.0 * (dy + 0.5) / g.display_height);
             auto unproject = [&](double z) {
                 const glm::dvec4 c = inverse_projection * glm::dvec4(ndc, z, 1.0);
                 return glm::dvec3(c) / c.w;

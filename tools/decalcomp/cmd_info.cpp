@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 
 #include <iostream>
+#include <optional>
 
 #include "commands.hpp"
 #include "decalcomp/error.hpp"
@@ -11,7 +12,8 @@ namespace decalcomp::cli {
 namespace {
 
 struct InfoFlags {
-    std::string input, camera;
+    std::vector<std::string> inputs, passes;
+    std::string camera;
     MappingOptions mapping;
     std::vector<std::string> channels;
     std::string depth;
@@ -31,36 +33,74 @@ void printMatrix(const std::string& title, const glm::dmat4& m) {
     for (int r = 0; r < 4; ++r) std::cout << fmt::format("    [{:12.6f} {:12.6f} {:12.6f} {:12.6f}]\n", m[0][r], m[1][r], m[2][r], m[3][r]);
 }
 
-void printInfo(const InfoFlags& f) {
-    const ExrImage image = readExr(f.input);
-    std::cout << f.input << ": " << image.parts.size() << " part(s)\n";
+std::string windowText(const Imath::Box2i& w) {
+    return fmt::format("({},{})-({},{})", w.min.x, w.min.y, w.max.x, w.max.y);
+}
+
+void printFile(const ExrImage& image) {
+    std::cout << image.path << ": " << image.parts.size() << " part(s)\n";
     for (std::size_t p = 0; p < image.parts.size(); ++p) {
         const ExrPart& part = image.parts[p];
-        std::cout << fmt::format("part {} '{}': {}x{} data window, {} channels\n", p,
+        const Imath::Box2i dw = part.header.dataWindow(), display = part.header.displayWindow();
+        std::cout << fmt::format("part {} '{}': {}x{} data window {}{}, {} channels\n", p,
                                  part.header.hasName() ? part.header.name() : "", part.width, part.height,
+                                 windowText(dw), dw == display ? "" : " (display window " + windowText(display) + ")",
                                  part.channels.size());
         for (const ExrChannel& c : part.channels) std::cout << fmt::format("  {} ({})\n", c.qualified, typeName(c.type));
     }
-    const ChannelMapping mapping = mapChannels(image, f.mapping);
+}
+
+void printInfo(const InfoFlags& f) {
+    const FrameFiles frame = readFrameFiles(f.inputs.front(), {f.inputs.begin() + 1, f.inputs.end()},
+                                            parsePassFlags(f.passes));
+    const std::vector<ExrImage>& files = frame.files;
+    for (const ExrImage& image : files) printFile(image);
+    ChannelMapping mapping = mapChannels(files, f.mapping, frame.roles);
     std::cout << "profile: " << mapping.profile << "\n";
+    std::cout << "profile scores:";
+    for (const ProfileCandidate& c : mapping.candidates) std::cout << fmt::format(" {} {:g}", c.name, c.score);
+    std::cout << "\n";
     for (const std::string& note : mapping.notes) std::cout << "  " << note << "\n";
     for (const auto& [attribute, refs] : mapping.attributes) {
         std::string names;
         for (const ChannelRef& ref : refs)
-            names += (names.empty() ? "" : ", ") + image.parts[std::size_t(ref.part)].channels[std::size_t(ref.channel)].qualified;
-        std::cout << fmt::format("  {:<10} <- {}\n", attributeName(attribute), names);
+            names += (names.empty() ? "" : ", ") +
+                     files[std::size_t(ref.file)].parts[std::size_t(ref.part)].channels[std::size_t(ref.channel)].qualified;
+        const std::string where = files.size() > 1 ? " (" + files[std::size_t(refs.front().file)].path + ")" : "";
+        std::cout << fmt::format("  {:<10} <- {}{}\n", attributeName(attribute), names, where);
     }
-    std::cout << "depth convention: " << depthConventionName(mapping.depth_convention)
-              << (mapping.reversed_z ? " (reversed-z)" : "") << "\n";
+
+    std::optional<GBuffer> gbuffer;
     try {
-        const Camera camera = resolveCamera(image, f.camera);
-        std::cout << "camera: " << camera.source << (camera.isOrthographic() ? " (orthographic)" : " (perspective)")
-                  << fmt::format(", near {:.6g}, far {:.6g}\n", camera.nearPlane(), camera.farPlane());
-        printMatrix("world_to_camera", camera.world_to_camera);
-        printMatrix("projection", camera.projection);
+        gbuffer = extractGBuffer(files, mapping);
+        const FrameWindow window = frameWindow(files, mapping);
+        std::cout << fmt::format("g-buffer window: {} of display window {} (from {})\n", windowText(window.data),
+                                 windowText(window.display), window.owner);
+    } catch (const Error& e) {
+        std::cout << "g-buffer: cannot extract (" << e.what() << ")\n";
+    }
+    std::optional<Camera> camera;
+    CameraSolveReport solve;
+    try {
+        camera = gbuffer ? resolveCamera(files, *gbuffer, f.camera, &solve) : resolveCamera(files.front(), f.camera);
+        std::cout << "camera: " << camera->source << (camera->isOrthographic() ? " (orthographic)" : " (perspective)")
+                  << fmt::format(", near {:.6g}, far {:.6g}\n", camera->nearPlane(), camera->farPlane());
+        if (solve.points > 0) {
+            std::cout << "camera solve: " << solve.summary() << "\n";
+            std::cout << "  near/far: " << solve.near_far_rule << "\n";
+            for (const std::string& note : solve.notes) std::cout << "  " << note << "\n";
+        }
+        printMatrix("world_to_camera", camera->world_to_camera);
+        printMatrix("projection", camera->projection);
     } catch (const Error& e) {
         std::cout << "camera: none (" << e.what() << ")\n";
     }
+    if (gbuffer && camera) {
+        const DepthCheck check = settleDepthConvention(*gbuffer, mapping, *camera);
+        std::cout << "depth check: " << check.summary() << "\n";
+    }
+    std::cout << "depth convention: " << depthConventionName(mapping.depth_convention)
+              << (mapping.reversed_z ? " (reversed-z)" : "") << "\n";
 }
 
 }  // namespace
@@ -68,9 +108,10 @@ void printInfo(const InfoFlags& f) {
 Command addInfoCommand(CLI::App& app) {
     auto flags = std::make_shared<InfoFlags>();
     CLI::App* cmd = app.add_subcommand("info", "Show an EXR's channels, the matched profile, camera and depth convention");
-    cmd->add_option("input", flags->input, "EXR file")->required();
+    cmd->add_option("inputs", flags->inputs, "EXR file(s); several are pooled as in composite")->required();
     cmd->add_option("--camera", flags->camera, "Camera JSON sidecar");
     addMappingOptions(*cmd, flags->mapping, flags->channels, flags->depth);
+    addPassOptions(*cmd, flags->passes);
     return [flags] {
         finishMappingOptions(flags->mapping, flags->channels, flags->depth);
         printInfo(*flags);

@@ -3,6 +3,7 @@
 // function to run; main.cpp maps decalcomp::Error kinds to exit codes (docs/cli.md).
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <map>
 
 #include "decalcomp/exr_io.hpp"
 
@@ -13,12 +14,18 @@ using Command = std::function<void()>;
 Command addCompositeCommand(CLI::App& app);
 Command addInfoCommand(CLI::App& app);
 Command addDevicesCommand(CLI::App& app);
+Command addBatchCommand(CLI::App& app);  // cmd_batch.cpp
 
-// --profile, --layer, --channel, --depth, --reversed-z: shared by composite and info.
+// --profile, --profile-file, --layer, --channel, --depth, --reversed-z: shared by composite and info.
 void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<std::string>& channel_flags,
                        std::string& depth_flag);
 // Validates and folds the raw flags into options; throws Error(Usage) naming the flag.
 void finishMappingOptions(MappingOptions& options, const std::vector<std::string>& channel_flags,
                           const std::string& depth_flag);
+
+// --pass ATTR=FILE (repeatable): one attribute from its own file. Shared by composite and info.
+void addPassOptions(CLI::App& command, std::vector<std::string>& pass_flags);
+// Throws Error(Usage) naming the flag.
+std::map<Attribute, std::string> parsePassFlags(const std::vector<std::string>& pass_flags);
 
 }  // namespace decalcomp::cli

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     const auto composite = decalcomp::cli::addCompositeCommand(app);
     const auto info = decalcomp::cli::addInfoCommand(app);
     const auto devices = decalcomp::cli::addDevicesCommand(app);
+    const auto batch = decalcomp::cli::addBatchCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("composite")) composite();
         else if (app.got_subcommand("info")) info();
         else if (app.got_subcommand("devices")) devices();
+        else if (app.got_subcommand("batch")) batch();
         return 0;
     } catch (const decalcomp::Error& e) {
         std::cerr << "decalcomp: error: " << e.what() << "\n";

@@ -1,15 +1,23 @@
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
 
 #include "commands.hpp"
 #include "decalcomp/error.hpp"
+#include "decalcomp/profiles.hpp"
 
 namespace decalcomp::cli {
 
 void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<std::string>& channel_flags,
                        std::string& depth_flag) {
-    command.add_option("--profile", options.profile, "Channel naming profile: auto, blender, generic")
-        ->check(CLI::IsMember({"auto", "blender", "generic"}))
+    command.add_option("--profile", options.profile,
+                       "Channel naming profile: auto, or a profile name (built-in: generic, blender, arnold, "
+                       "renderman, unreal; or one from --profile-file)")
         ->default_str("auto");
+    command.add_option("--profile-file", options.profile_files,
+                       "JSON file of renderer profiles to consider ahead of the built-ins (repeatable; "
+                       "docs/profiles.md)");
     command.add_option("--layer", options.layer, "View layer to read when the file has several (Blender)");
     command.add_option("--channel", channel_flags,
                        "Explicit channels for an attribute, e.g. albedo=diffuse.R,diffuse.G,diffuse.B (repeatable)");
@@ -20,6 +28,13 @@ void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<s
 
 void finishMappingOptions(MappingOptions& options, const std::vector<std::string>& channel_flags,
                           const std::string& depth_flag) {
+    if (options.profile != "auto") {
+        std::vector<std::string> known = {"auto"};
+        for (const ChannelProfile& p : profileSet(options.profile_files)) known.push_back(p.name);
+        if (std::find(known.begin(), known.end(), options.profile) == known.end())
+            throw Error(ErrorKind::Usage, fmt::format("--profile {}: unknown profile (known: {})", options.profile,
+                                                      fmt::join(known, ", ")));
+    }
     if (!depth_flag.empty()) options.depth_convention = depthConventionFromName(depth_flag);
     for (const std::string& flag : channel_flags) {
         const auto eq = flag.find('=');
@@ -42,6 +57,28 @@ void finishMappingOptions(MappingOptions& options, const std::vector<std::string
                                                       names.size()));
         options.explicit_channels[*attribute] = names;
     }
+}
+
+void addPassOptions(CLI::App& command, std::vector<std::string>& pass_flags) {
+    command.add_option("--pass", pass_flags,
+                       "Read one attribute from its own file, e.g. depth=depth.exr or albedo=albedo.exr "
+                       "(repeatable; docs/cli.md)");
+}
+
+std::map<Attribute, std::string> parsePassFlags(const std::vector<std::string>& pass_flags) {
+    std::map<Attribute, std::string> passes;
+    for (const std::string& flag : pass_flags) {
+        const auto eq = flag.find('=');
+        if (eq == std::string::npos || eq + 1 == flag.size())
+            throw Error(ErrorKind::Usage, fmt::format("--pass {}: expected ATTRIBUTE=FILE", flag));
+        const auto attribute = attributeFromName(flag.substr(0, eq));
+        if (!attribute)
+            throw Error(ErrorKind::Usage, fmt::format("--pass {}: unknown attribute '{}'", flag, flag.substr(0, eq)));
+        if (passes.count(*attribute))
+            throw Error(ErrorKind::Usage, fmt::format("--pass {}: {} given twice", flag, attributeName(*attribute)));
+        passes[*attribute] = flag.substr(eq + 1);
+    }
+    return passes;
 }
 
 }  // namespace decalcomp::cli

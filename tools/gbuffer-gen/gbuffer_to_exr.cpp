@@ -67,7 +67,8 @@ Imf::PixelType pixelType(SampleType type) {
 }
 
 Imf::Header baseHeader(const GBuffer& g, const ExrLayoutOptions& options) {
-    Imf::Header header(g.width, g.height);
+    Imf::Header header(g.display_width > 0 ? g.display_width : g.width, g.display_height > 0 ? g.display_height : g.height);
+    header.dataWindow() = Imath::Box2i({g.origin_x, g.origin_y}, {g.origin_x + g.width - 1, g.origin_y + g.height - 1});
     header.compression() = options.compression;
     header.insert("decalcomp:depthConvention",
                   Imf::StringAttribute(std::string(depthConventionName(g.depth_convention)) +
@@ -86,7 +87,20 @@ const std::vector<float>& planeSamples(const GBuffer& g, Attribute a, int compon
     return it->second.samples;
 }
 
-std::vector<Pass> passesFor(const GBuffer& g, const std::vector<float>& beauty, const ExrLayoutOptions& options) {
+// Camera-space normals (RenderMan's Nn): the rotation part of world_to_camera.
+std::vector<float> cameraSpaceNormals(const GBuffer& g, const Camera& camera) {
+    const std::vector<float>& world = planeSamples(g, Attribute::Normal, 3);
+    const glm::dmat3 rotation(camera.world_to_camera);
+    std::vector<float> out(world.size());
+    for (std::size_t i = 0; i < g.pixelCount(); ++i) {
+        const glm::dvec3 n = rotation * glm::dvec3(world[i * 3], world[i * 3 + 1], world[i * 3 + 2]);
+        for (int c = 0; c < 3; ++c) out[i * 3 + c] = float(n[c]);
+    }
+    return out;
+}
+
+std::vector<Pass> passesFor(const GBuffer& g, const std::vector<float>& beauty, const std::vector<float>& extra,
+                            const ExrLayoutOptions& options) {
     const SampleType colour = options.half ? SampleType::Half : SampleType::Float;
     const bool has_depth = g.has(Attribute::Depth), has_position = g.has(Attribute::Position);
     std::vector<Pass> passes;
@@ -94,37 +108,91 @@ std::vector<Pass> passesFor(const GBuffer& g, const std::vector<float>& beauty, 
                    SampleType type, const std::vector<float>& samples, int components) {
         passes.push_back({std::move(part), std::move(channels), std::move(flat), type, &samples, components});
     };
+    // Single-part names only (multi-part is for blender and generic naming).
+    auto flat = [&](std::vector<std::string> names, SampleType type, const std::vector<float>& samples, int components) {
+        add(names.front(), names, names, type, samples, components);
+    };
+    // One value written into several channels (Unreal's buffer visualisations are RGB).
+    auto scalarAsRgb = [&](const std::string& pass, SampleType type, const std::vector<float>& samples) {
+        for (const char* c : {"R", "G", "B"}) flat({pass + "." + c}, type, samples, 1);
+    };
 
-    if (options.naming == Naming::Blender) {
-        const std::string& l = options.layer;
-        auto blender = [&](const std::string& pass, std::vector<std::string> channels, SampleType type,
-                           const std::vector<float>& samples) {
-            const std::string part = l + "." + pass;
-            std::vector<std::string> flat;
-            for (const std::string& c : channels) flat.push_back(part + "." + c);
-            const int components = int(channels.size());
-            add(part, std::move(channels), std::move(flat), type, samples, components);
-        };
-        blender("Combined", {"R", "G", "B", "A"}, colour, beauty);
-        if (has_depth) blender("Depth", {"Z"}, SampleType::Float, planeSamples(g, Attribute::Depth, 1));
-        blender("DiffCol", {"R", "G", "B"}, colour, planeSamples(g, Attribute::Albedo, 3));
-        blender("Normal", {"X", "Y", "Z"}, colour, planeSamples(g, Attribute::Normal, 3));
-        if (has_position)
-            blender("Position", {"X", "Y", "Z"}, SampleType::Float, planeSamples(g, Attribute::Position, 3));
-        blender("IndexOB", {"X"}, SampleType::Float, planeSamples(g, Attribute::ObjectId, 1));
-    } else {
-        // Multi-part channel names are chosen so that "part.channel" is again a generic spelling.
-        add("rgba", {"R", "G", "B", "A"}, {"R", "G", "B", "A"}, colour, beauty, 4);
-        if (has_depth) add("depth", {"Z"}, {"Z"}, SampleType::Float, planeSamples(g, Attribute::Depth, 1), 1);
-        add("albedo", {"R", "G", "B"}, {"albedo.R", "albedo.G", "albedo.B"}, colour,
-            planeSamples(g, Attribute::Albedo, 3), 3);
-        add("N", {"X", "Y", "Z"}, {"N.X", "N.Y", "N.Z"}, colour, planeSamples(g, Attribute::Normal, 3), 3);
-        if (has_position)
-            add("P", {"X", "Y", "Z"}, {"P.X", "P.Y", "P.Z"}, SampleType::Float,
-                planeSamples(g, Attribute::Position, 3), 3);
-        add("id", {"V"}, {"id"}, SampleType::Uint, planeSamples(g, Attribute::ObjectId, 1), 1);
-        add("roughness", {"V"}, {"roughness"}, colour, planeSamples(g, Attribute::Roughness, 1), 1);
-        add("metallic", {"V"}, {"metallic"}, colour, planeSamples(g, Attribute::Metallic, 1), 1);
+    switch (options.naming) {
+        case Naming::Blender: {
+            const std::string& l = options.layer;
+            auto blender = [&](const std::string& pass, std::vector<std::string> channels, SampleType type,
+                               const std::vector<float>& samples) {
+                const std::string part = l + "." + pass;
+                std::vector<std::string> flat_names;
+                for (const std::string& c : channels) flat_names.push_back(part + "." + c);
+                const int components = int(channels.size());
+                add(part, std::move(channels), std::move(flat_names), type, samples, components);
+            };
+            blender("Combined", {"R", "G", "B", "A"}, colour, beauty);
+            if (has_depth) blender("Depth", {"Z"}, SampleType::Float, planeSamples(g, Attribute::Depth, 1));
+            blender("DiffCol", {"R", "G", "B"}, colour, planeSamples(g, Attribute::Albedo, 3));
+            blender("Normal", {"X", "Y", "Z"}, colour, planeSamples(g, Attribute::Normal, 3));
+            if (has_position)
+                blender("Position", {"X", "Y", "Z"}, SampleType::Float, planeSamples(g, Attribute::Position, 3));
+            blender("IndexOB", {"X"}, SampleType::Float, planeSamples(g, Attribute::ObjectId, 1));
+        } break;
+        case Naming::Generic:
+            // Multi-part channel names are chosen so that "part.channel" is again a generic spelling.
+            add("rgba", {"R", "G", "B", "A"}, {"R", "G", "B", "A"}, colour, beauty, 4);
+            if (has_depth) add("depth", {"Z"}, {"Z"}, SampleType::Float, planeSamples(g, Attribute::Depth, 1), 1);
+            add("albedo", {"R", "G", "B"}, {"albedo.R", "albedo.G", "albedo.B"}, colour,
+                planeSamples(g, Attribute::Albedo, 3), 3);
+            add("N", {"X", "Y", "Z"}, {"N.X", "N.Y", "N.Z"}, colour, planeSamples(g, Attribute::Normal, 3), 3);
+            if (has_position)
+                add("P", {"X", "Y", "Z"}, {"P.X", "P.Y", "P.Z"}, SampleType::Float,
+                    planeSamples(g, Attribute::Position, 3), 3);
+            add("id", {"V"}, {"id"}, SampleType::Uint, planeSamples(g, Attribute::ObjectId, 1), 1);
+            add("roughness", {"V"}, {"roughness"}, colour, planeSamples(g, Attribute::Roughness, 1), 1);
+            add("metallic", {"V"}, {"metallic"}, colour, planeSamples(g, Attribute::Metallic, 1), 1);
+            break;
+        case Naming::Arnold:
+            flat({"R", "G", "B", "A"}, colour, beauty, 4);
+            if (has_depth) flat({"Z"}, SampleType::Float, planeSamples(g, Attribute::Depth, 1), 1);
+            flat({"diffuse_albedo.R", "diffuse_albedo.G", "diffuse_albedo.B"}, colour, planeSamples(g, Attribute::Albedo, 3), 3);
+            flat({"N.X", "N.Y", "N.Z"}, colour, planeSamples(g, Attribute::Normal, 3), 3);
+            if (has_position) flat({"P.X", "P.Y", "P.Z"}, SampleType::Float, planeSamples(g, Attribute::Position, 3), 3);
+            flat({"ID"}, SampleType::Uint, planeSamples(g, Attribute::ObjectId, 1), 1);
+            flat({"specular_roughness"}, colour, planeSamples(g, Attribute::Roughness, 1), 1);
+            flat({"metalness"}, colour, planeSamples(g, Attribute::Metallic, 1), 1);
+            break;
+        case Naming::Karma:
+            flat({"C.R", "C.G", "C.B", "C.A"}, colour, beauty, 4);
+            if (has_depth) flat({"Z"}, SampleType::Float, planeSamples(g, Attribute::Depth, 1), 1);
+            flat({"albedo.R", "albedo.G", "albedo.B"}, colour, planeSamples(g, Attribute::Albedo, 3), 3);
+            flat({"N.R", "N.G", "N.B"}, colour, planeSamples(g, Attribute::Normal, 3), 3);
+            if (has_position) flat({"P.R", "P.G", "P.B"}, SampleType::Float, planeSamples(g, Attribute::Position, 3), 3);
+            flat({"id"}, SampleType::Float, planeSamples(g, Attribute::ObjectId, 1), 1);
+            flat({"roughness"}, colour, planeSamples(g, Attribute::Roughness, 1), 1);
+            flat({"metallic"}, colour, planeSamples(g, Attribute::Metallic, 1), 1);
+            break;
+        case Naming::RenderMan:
+            flat({"Ci.r", "Ci.g", "Ci.b", "a"}, colour, beauty, 4);
+            if (has_depth) flat({"z"}, SampleType::Float, planeSamples(g, Attribute::Depth, 1), 1);
+            flat({"albedo.r", "albedo.g", "albedo.b"}, colour, planeSamples(g, Attribute::Albedo, 3), 3);
+            flat({"Nn.x", "Nn.y", "Nn.z"}, colour, extra, 3);  // camera space
+            if (has_position)
+                flat({"__Pworld.x", "__Pworld.y", "__Pworld.z"}, SampleType::Float, planeSamples(g, Attribute::Position, 3), 3);
+            flat({"id"}, SampleType::Float, planeSamples(g, Attribute::ObjectId, 1), 1);
+            flat({"roughness"}, colour, planeSamples(g, Attribute::Roughness, 1), 1);
+            flat({"metallic"}, colour, planeSamples(g, Attribute::Metallic, 1), 1);
+            break;
+        case Naming::Unreal:
+            flat({"FinalImage.R", "FinalImage.G", "FinalImage.B", "FinalImage.A"}, colour, beauty, 4);
+            if (has_depth) scalarAsRgb("SceneDepthWorldUnits", SampleType::Float, planeSamples(g, Attribute::Depth, 1));
+            flat({"BaseColor.R", "BaseColor.G", "BaseColor.B"}, colour, planeSamples(g, Attribute::Albedo, 3), 3);
+            flat({"WorldNormal.R", "WorldNormal.G", "WorldNormal.B"}, colour, planeSamples(g, Attribute::Normal, 3), 3);
+            if (has_position)
+                flat({"WorldPosition.R", "WorldPosition.G", "WorldPosition.B"}, SampleType::Float,
+                     planeSamples(g, Attribute::Position, 3), 3);
+            scalarAsRgb("CustomStencil", SampleType::Float, planeSamples(g, Attribute::ObjectId, 1));
+            scalarAsRgb("Roughness", colour, planeSamples(g, Attribute::Roughness, 1));
+            scalarAsRgb("Metallic", colour, planeSamples(g, Attribute::Metallic, 1));
+            break;
     }
     return passes;
 }
@@ -165,8 +233,12 @@ std::vector<float> beautyShade(const GBuffer& g) {
 
 ExrImage gbufferToExr(const GBuffer& g, const ExrLayoutOptions& options) {
     if (g.width <= 0 || g.height <= 0) throw outputError("G-buffer is empty");
+    if (options.multipart && options.naming != Naming::Blender && options.naming != Naming::Generic)
+        throw outputError("multi-part output is for blender and generic naming");
     const std::vector<float> beauty = beautyShade(g);
-    const std::vector<Pass> passes = passesFor(g, beauty, options);
+    const std::vector<float> extra =
+        options.naming == Naming::RenderMan ? cameraSpaceNormals(g, options.camera) : std::vector<float>();
+    const std::vector<Pass> passes = passesFor(g, beauty, extra, options);
     const std::size_t pixels = g.pixelCount();
 
     ExrImage image;
@@ -196,6 +268,59 @@ ExrImage gbufferToExr(const GBuffer& g, const ExrLayoutOptions& options) {
         image.parts.push_back(std::move(part));
     }
     return image;
+}
+
+std::vector<std::pair<std::string, ExrImage>> gbufferToPassFiles(const GBuffer& g, const ExrLayoutOptions& options) {
+    if (g.width <= 0 || g.height <= 0) throw outputError("G-buffer is empty");
+    const SampleType colour = options.half ? SampleType::Half : SampleType::Float;
+    const std::vector<float> beauty = beautyShade(g);
+    std::vector<std::pair<std::string, Pass>> passes;
+    auto add = [&](const std::string& key, std::vector<std::string> channels, SampleType type,
+                   const std::vector<float>& samples) {
+        const int components = int(channels.size());
+        passes.push_back({key, Pass{key, channels, channels, type, &samples, components}});
+    };
+    add("beauty", {"R", "G", "B", "A"}, colour, beauty);
+    if (g.has(Attribute::Depth)) add("depth", {"Z"}, SampleType::Float, planeSamples(g, Attribute::Depth, 1));
+    add("albedo", {"R", "G", "B"}, colour, planeSamples(g, Attribute::Albedo, 3));
+    add("normal", {"X", "Y", "Z"}, colour, planeSamples(g, Attribute::Normal, 3));
+    if (g.has(Attribute::Position))
+        add("position", {"X", "Y", "Z"}, SampleType::Float, planeSamples(g, Attribute::Position, 3));
+    add("id", {"id"}, SampleType::Uint, planeSamples(g, Attribute::ObjectId, 1));
+    add("roughness", {"Y"}, colour, planeSamples(g, Attribute::Roughness, 1));
+    add("metallic", {"Y"}, colour, planeSamples(g, Attribute::Metallic, 1));
+
+    std::vector<std::pair<std::string, ExrImage>> files;
+    for (const auto& [key, pass] : passes) {
+        ExrPart part;
+        part.header = baseHeader(g, options);
+        part.width = g.width;
+        part.height = g.height;
+        for (int c = 0; c < int(pass.flat.size()); ++c) addChannel(part, pass.flat[c], pass, c, g.pixelCount());
+        sortChannels(part);
+        ExrImage image;
+        image.parts.push_back(std::move(part));
+        files.emplace_back(key, std::move(image));
+    }
+    return files;
+}
+
+const char* namingName(Naming naming) {
+    switch (naming) {
+        case Naming::Blender: return "blender";
+        case Naming::Generic: return "generic";
+        case Naming::Arnold: return "arnold";
+        case Naming::Karma: return "karma";
+        case Naming::RenderMan: return "renderman";
+        case Naming::Unreal: return "unreal";
+    }
+    return "?";
+}
+
+std::optional<Naming> namingFromName(const std::string& name) {
+    for (Naming n : {Naming::Blender, Naming::Generic, Naming::Arnold, Naming::Karma, Naming::RenderMan, Naming::Unreal})
+        if (name == namingName(n)) return n;
+    return std::nullopt;
 }
 
 }  // namespace decalcomp::gen

@@ -1,0 +1,70 @@
+#pragma once
+// A camera solved from a frame's own passes when no header or sidecar camera exists: every valid
+// pixel's world position (the Position plane) must project onto that pixel's centre. Also the
+// planar/radial depth check, which compares a depth pass with the position pass through a camera.
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "decalcomp/camera.hpp"
+#include "decalcomp/gbuffer.hpp"
+
+namespace decalcomp {
+
+struct CameraSolveOptions {
+    double max_rms_px = 0.5;              // refuse when the inliers' RMS reprojection error is larger
+    double outlier_px = 1.0;              // pixels further off than this are left out of the final fit
+    double max_outlier_fraction = 0.10;   // refuse when more valid pixels than this are outliers
+    std::size_t max_fit_points = 50000;   // the fit uses an even subset of at most this many pixels
+};
+
+struct CameraSolveReport {
+    bool orthographic = false;
+    bool mirrored = false;       // the world is left-handed as seen from the camera (det R = -1)
+    std::size_t points = 0;      // valid pixels (finite position, and depth not background)
+    std::size_t outliers = 0;    // valid pixels off by more than outlier_px (antialiased edges)
+    double rms_px = 0.0, max_px = 0.0;          // reprojection error over the inliers
+    double rms_all_px = 0.0, max_all_px = 0.0;  // over every valid pixel
+    double near_plane = 0.0, far_plane = 0.0;
+    std::string near_far_rule;   // how near/far were chosen (docs/conventions.md)
+    std::vector<std::string> notes;
+
+    std::string summary() const;  // "perspective, RMS 0.0012 px, max 0.0040 px over 61234 pixels"
+};
+
+// Normalised 3x4 DLT over pixel centres (Hartley normalisation of both point sets), refined by
+// reweighting to the geometric reprojection error with outlier rounds; an affine fit decides
+// orthographic cameras. The result is decomposed into a (possibly mirrored) rigid world_to_camera
+// and an OpenGL projection whose near/far come from the depth range (ndc depth: fitted to the
+// depth pass). Throws Error(Input) starting with `label` when there are fewer than 12 valid pixels,
+// the points are degenerate, or the residual is too large (the message gives it).
+Camera solveCamera(const GBuffer& gbuffer, const std::string& label, CameraSolveReport* report = nullptr,
+                   const CameraSolveOptions& options = {});
+
+// Reprojection error of a camera against the position pass (pixels), over valid pixels.
+struct Reprojection {
+    std::size_t points = 0;
+    double rms_px = 0.0, max_px = 0.0;
+};
+Reprojection reprojectionError(const GBuffer& gbuffer, const Camera& camera);
+
+// Planar vs radial: which one the depth pass follows, judged against the position pass through the
+// camera, over pixels where both are valid (relative errors; median decides, RMS/max reported).
+struct DepthCheck {
+    bool performed = false;
+    std::string reason;  // why not, or the verdict in words
+    std::size_t pixels = 0;
+    double planar_median = 0, planar_rms = 0, planar_max = 0;
+    double radial_median = 0, radial_rms = 0, radial_max = 0;
+    std::optional<DepthConvention> verdict;  // planar or radial when one fits clearly
+
+    std::string summary() const;  // one line for `info` and composite's report
+};
+DepthCheck checkDepthConvention(const GBuffer& gbuffer, const Camera& camera);
+
+// True where the pixel is geometry (not background) by the G-buffer's depth convention: the
+// depth rules of docs/conventions.md, or a finite position without a depth pass.
+bool isGeometryPixel(const GBuffer& gbuffer, std::size_t pixel);
+
+}  // namespace decalcomp

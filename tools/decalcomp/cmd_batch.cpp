@@ -1,0 +1,113 @@
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+
+#include "commands.hpp"
+#include "decalcomp/batch.hpp"
+#include "decalcomp/error.hpp"
+
+namespace decalcomp::cli {
+
+namespace {
+
+struct BatchFlags {
+    BatchRequest request;
+    std::vector<std::string> channels;
+    std::string depth;
+    std::string shard, shard_mode = "interleaved", progress = "auto";
+    bool quiet = false, list_frames = false, no_slurm = false, timing = false;
+};
+
+ProgressStyle progressStyle(const BatchFlags& f) {
+    if (f.quiet || f.progress == "none") return ProgressStyle::Quiet;
+    if (f.progress == "bar") return ProgressStyle::Bar;
+    if (f.progress == "lines") return ProgressStyle::Lines;
+    return ::isatty(::fileno(stderr)) ? ProgressStyle::Bar : ProgressStyle::Lines;
+}
+
+void run(BatchFlags& f) {
+    BatchRequest& r = f.request;
+    finishMappingOptions(r.mapping, f.channels, f.depth);
+    if (!f.shard.empty()) r.shard = parseShard(f.shard);
+    r.shard_from_environment = !f.no_slurm;
+    r.shard_mode = f.shard_mode == "contiguous" ? ShardMode::Contiguous : ShardMode::Interleaved;
+    if (f.list_frames) {
+        for (int frame : planBatch(r).frames) std::cout << frame << "\n";
+        return;
+    }
+    if (r.scene.empty() && !r.io_only) throw Error(ErrorKind::Usage, "--decals is required (or --io-only)");
+    ProgressPrinter printer(std::cerr, progressStyle(f));
+    const BatchReport report = runBatch(r, &printer);
+    if (f.timing) {
+        const BatchTimings& t = report.timings;
+        const double n = std::max(1, report.progress.written + report.progress.failed);
+        std::cerr << fmt::format(
+            "timing, ms per frame (thread time): read {:.1f}, map+extract {:.1f}, setScene {:.1f}, composite {:.1f} "
+            "(kernels {:.2f}), store {:.1f}, write {:.1f}; reader blocked {:.1f}, writer idle {:.1f}\n",
+            1e3 * t.read_s / n, 1e3 * t.map_extract_s / n, 1e3 * t.set_scene_s / n, 1e3 * t.composite_s / n,
+            t.kernels_ms / n, 1e3 * t.store_s / n, 1e3 * t.write_s / n, 1e3 * t.read_wait_s / n,
+            1e3 * t.write_idle_s / n);
+    }
+    if (report.failures.empty()) return;
+    // --keep-going: every failed frame, then a non-zero exit with the first failure's code.
+    std::string frames;
+    for (const FrameResult& failed : report.failures) {
+        std::cerr << fmt::format("decalcomp: frame {} failed: {}\n", failed.frame, failed.message);
+        frames += (frames.empty() ? "" : ", ") + std::to_string(failed.frame);
+    }
+    const std::string summary = fmt::format("{} of {} frames failed: {}", report.failures.size(),
+                                            report.progress.total, frames);
+    const FrameResult& first = report.failures.front();
+    if (first.kind) throw Error(*first.kind, summary);
+    throw std::runtime_error(summary);
+}
+
+}  // namespace
+
+Command addBatchCommand(CLI::App& app) {
+    auto flags = std::make_shared<BatchFlags>();
+    CLI::App* cmd = app.add_subcommand("batch", "Composite a decal scene into every frame of a sequence");
+    BatchRequest& r = flags->request;
+    cmd->add_option("input", r.input, "Input frame pattern: frame.####.exr or frame.%04d.exr")->required();
+    cmd->add_option("-o,--output", r.output, "Output frame pattern (folders are created)")->required();
+    cmd->add_option("--decals", r.scene, "Decal scene JSON; decals may have lifetimes and keyframes");
+    cmd->add_option("--frames", r.frames, "Frames: 1-240, 1-240x2, 1,5,10-20 (default: every input that exists)");
+    cmd->add_option("--camera", r.camera,
+                    "Camera sidecar for every frame, or a sidecar pattern (cam.####.json); default: each frame's "
+                    "header, else solved from its position pass");
+    cmd->add_option("--cameras", r.cameras, "One JSON file with a camera per frame (docs/cli.md)");
+    cmd->add_option("--device", r.device, "OpenCL device: index, gpu, cpu or part of its name");
+    cmd->add_flag("--resume", r.resume, "Skip frames whose output exists (outputs are written atomically)");
+    cmd->add_flag("--keep-going", r.keep_going, "Go on past failed frames; list them and exit non-zero at the end");
+    cmd->add_option("--shard", flags->shard,
+                    "Process the I-th of N slices of the frames, I from 1 (default in a Slurm job array: from "
+                    "SLURM_ARRAY_TASK_ID/COUNT/MIN)");
+    cmd->add_option("--shard-mode", flags->shard_mode, "interleaved (1, N+1, ...) or contiguous (chunks)")
+        ->check(CLI::IsMember({"interleaved", "contiguous"}))
+        ->default_str("interleaved");
+    cmd->add_flag("--no-slurm-shard", flags->no_slurm, "Ignore SLURM_ARRAY_* (process every frame in each task)");
+    cmd->add_option("--threads", r.exr_threads, "OpenEXR decode/encode threads (default: all hardware threads)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--queue", r.queue_depth, "Frames waiting between read, composite and write (memory bound)")
+        ->check(CLI::Range(1, 64))
+        ->default_str("2");
+    cmd->add_option("--workers", r.composite_workers, "Compositing threads sharing the device")
+        ->check(CLI::Range(1, 64))
+        ->default_str("1");
+    cmd->add_flag("--io-only", r.io_only, "Read and write every frame without compositing (measures the I/O)");
+    cmd->add_flag("--list-frames", flags->list_frames, "Print the frames this run (shard) would process, and exit");
+    cmd->add_flag("--overwrite-input", r.overwrite_input, "Allow outputs to replace their inputs");
+    cmd->add_flag("--unbinned", [&r](std::int64_t) { r.binned = false; }, "Test every decal at every pixel (debugging)");
+    cmd->add_option("--progress", flags->progress, "auto (bar on a terminal, else lines), bar, lines, none")
+        ->check(CLI::IsMember({"auto", "bar", "lines", "none"}))
+        ->default_str("auto");
+    cmd->add_flag("-q,--quiet", flags->quiet, "No progress; only errors");
+    cmd->add_flag("--timing", flags->timing, "Print where the time went, per stage (ms per frame)");
+    addMappingOptions(*cmd, r.mapping, flags->channels, flags->depth);
+    return [flags] { run(*flags); };
+}
+
+}  // namespace decalcomp::cli
