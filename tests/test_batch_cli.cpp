@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -59,6 +60,7 @@ std::size_t count(const std::string& text, const std::string& needle) {
 // Every file under `dir`, relative names.
 std::set<std::string> filesUnder(const fs::path& dir) {
     std::set<std::string> names;
+    if (!fs::exists(dir)) return names;  // e.g. a run killed before it made the output folder
     for (const auto& e : fs::recursive_directory_iterator(dir))
         if (!e.is_directory()) names.insert(fs::relative(e.path(), dir).string());
     return names;
@@ -128,7 +130,9 @@ TEST(BatchCli, ResumeSkipsCompleteOutputs) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const auto r = test::runCli("batch " + s.args() + " --frames 1-6 --resume --progress lines");
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_EQ(writtenFrames(r.output), (std::vector<int>{2, 5})) << r.output;
+    std::vector<int> written = writtenFrames(r.output);  // in the order they finished
+    std::sort(written.begin(), written.end());
+    EXPECT_EQ(written, (std::vector<int>{2, 5})) << r.output;
     EXPECT_EQ(count(r.output, "skipped: "), 4u) << r.output;
     for (int f : {1, 3, 4, 6}) EXPECT_EQ(fs::last_write_time(s.out(f)), before[f]) << "frame " << f << " rewritten";
     for (int f = 1; f <= 6; ++f) EXPECT_TRUE(fs::exists(s.out(f)));
@@ -243,6 +247,7 @@ TEST(BatchKill, SigkillAtRandomMomentsThenResume) {
                                                    "1-24",        "--resume", "--quiet"};
     std::mt19937 rng(std::random_device{}());
     int kills = 0, runs = 0, killed_while_writing = 0;  // the last: a temporary was left behind
+    int bound_us = full_run_us * 6 / 10;
     bool completed = false;
     const auto test_start = std::chrono::steady_clock::now();
     while (!completed && runs < 60) {
@@ -259,10 +264,10 @@ TEST(BatchKill, SigkillAtRandomMomentsThenResume) {
             ::execv(argv[0], argv.data());
             ::_exit(127);
         }
-        // Up to 25 kills, each at a random moment within the first 60% of a full run's duration
-        // (so the first run is always killed; resumed runs are shorter and finish at some point).
+        // Up to 25 kills, each at a random moment within the first 60% of a full run's duration;
+        // resumed runs are shorter and finish at some point.
         const bool kill_this = kills < 25;
-        const auto delay = std::chrono::microseconds(std::uniform_int_distribution<int>(0, full_run_us * 6 / 10)(rng));
+        const auto delay = std::chrono::microseconds(std::uniform_int_distribution<int>(0, bound_us)(rng));
         const auto started = std::chrono::steady_clock::now();
         int status = 0;
         pid_t done = 0;
@@ -287,10 +292,15 @@ TEST(BatchKill, SigkillAtRandomMomentsThenResume) {
             ASSERT_TRUE(WIFEXITED(status));
             ASSERT_EQ(WEXITSTATUS(status), 0) << "a resumed run failed";
             completed = true;
+            if (kills < 3) {  // finished too soon (a loaded machine times runs unevenly): start over
+                fs::remove_all(s.dir.path() / "out");
+                bound_us /= 2;
+                completed = false;
+            }
         }
     }
     ASSERT_TRUE(completed) << runs << " runs";
-    EXPECT_GT(kills, 0);
+    EXPECT_GE(kills, 3);
     std::set<std::string> expected;
     for (int f = 1; f <= frames; ++f) {
         const std::string out = FramePattern(out_pattern).path(f);

@@ -114,7 +114,7 @@ struct BatchRequest {
     ShardMode shard_mode = ShardMode::Interleaved;
     int exr_threads = 0;        // OpenEXR's global decode/encode pool; 0 = hardware threads
     int queue_depth = 2;        // frames waiting between stages (memory bound)
-    int composite_workers = 1;  // compositing threads, each with its own Compositor on one device
+    int composite_workers = 2;  // compositing threads, each with its own Compositor on one device
     bool io_only = false;       // read and write without compositing (I/O cost, for benchmarks)
     bool binned = true;
 };

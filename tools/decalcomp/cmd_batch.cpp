@@ -94,9 +94,10 @@ Command addBatchCommand(CLI::App& app) {
     cmd->add_option("--queue", r.queue_depth, "Frames waiting between read, composite and write (memory bound)")
         ->check(CLI::Range(1, 64))
         ->default_str("2");
-    cmd->add_option("--workers", r.composite_workers, "Compositing threads sharing the device")
+    cmd->add_option("--workers", r.composite_workers,
+                    "Compositing threads sharing the device (their host-side work overlaps)")
         ->check(CLI::Range(1, 64))
-        ->default_str("1");
+        ->default_str("2");
     cmd->add_flag("--io-only", r.io_only, "Read and write every frame without compositing (measures the I/O)");
     cmd->add_flag("--list-frames", flags->list_frames, "Print the frames this run (shard) would process, and exit");
     cmd->add_flag("--overwrite-input", r.overwrite_input, "Allow outputs to replace their inputs");
