@@ -192,6 +192,16 @@ double ambiguousShare(const GBuffer& g) { return g.depth_convention == DepthConv
 
 class RandomScenes : public ::testing::TestWithParam<std::uint32_t> {};
 
+// Composites on PoCL and compares with the scalar reference at the frame's stated tolerance.
+std::pair<GBuffer, Comparison> compositeAndCompare(const RandomFrame& f, const DecalScene& decals) {
+    Compositor compositor(cpuDevice());
+    compositor.setScene(decals);
+    GBuffer out = f.gbuffer;
+    compositor.composite(out, f.camera);
+    const auto ref = reference::shade(f.gbuffer, f.camera, decals, roundingMargin(f.gbuffer));
+    return {out, compareWithReference(f.gbuffer, out, ref, albedoTolerance(f.gbuffer))};
+}
+
 // Composites once and returns the tile depth ranges and lists the binning produced.
 BinningResult binRandomScene(const RandomFrame& f, const DecalScene& decals) {
     Compositor compositor(cpuDevice());
@@ -204,12 +214,7 @@ BinningResult binRandomScene(const RandomFrame& f, const DecalScene& decals) {
 TEST_P(RandomScenes, BinnedKernelMatchesReference) {
     const RandomFrame f = makeRandomFrame(GetParam());
     const DecalScene decals = makeRandomDecals(f, GetParam(), 300);
-    Compositor compositor(cpuDevice());
-    compositor.setScene(decals);
-    GBuffer out = f.gbuffer;
-    compositor.composite(out, f.camera);
-    const auto ref = reference::shade(f.gbuffer, f.camera, decals, roundingMargin(f.gbuffer));
-    const Comparison c = compareWithReference(f.gbuffer, out, ref, albedoTolerance(f.gbuffer));
+    const auto [out, c] = compositeAndCompare(f, decals);
     EXPECT_EQ(c.mismatched, 0u) << "max error " << c.max_error << " over " << c.compared << " pixels";
     // Each nearest decal centred on a surface point puts that pixel exactly on a texel edge, so a
     // few percent of pixels are legitimately ambiguous; more would make the comparison hollow.
@@ -327,18 +332,14 @@ TEST(Kernels, MaskWeightsMatchReference) {
         f.gbuffer.mask_weights.push_back(w);
     }
     for (std::size_t k = 0; k < decals.decals.size(); ++k) decals.decals[k].mask = k % 3 == 2 ? -1 : int(k % 3);
-    Compositor compositor(cpuDevice());
-    compositor.setScene(decals);
-    GBuffer out = f.gbuffer;
-    compositor.composite(out, f.camera);
-    const auto ref = reference::shade(f.gbuffer, f.camera, decals, roundingMargin(f.gbuffer));
-    const Comparison c = compareWithReference(f.gbuffer, out, ref, albedoTolerance(f.gbuffer));
+    const auto [out, c] = compositeAndCompare(f, decals);
     EXPECT_EQ(c.mismatched, 0u) << "max error " << c.max_error;
     // Without the masks the result must differ: the weights really reach the kernel.
     GBuffer unmasked = f.gbuffer;
     for (auto& d : decals.decals) d.mask = -1;
     decals.masks.clear();
     unmasked.mask_weights.clear();
+    Compositor compositor(cpuDevice());
     compositor.setScene(decals);
     compositor.composite(unmasked, f.camera);
     EXPECT_NE(unmasked.planes.at(Attribute::Albedo).samples, out.planes.at(Attribute::Albedo).samples);
@@ -352,12 +353,7 @@ TEST(Kernels, DataWindowOffsetMatchesReference) {
     f.gbuffer.origin_x = 11;
     f.gbuffer.origin_y = 7;
     const DecalScene decals = makeRandomDecals(f, 6, 100);
-    Compositor compositor(cpuDevice());
-    compositor.setScene(decals);
-    GBuffer out = f.gbuffer;
-    compositor.composite(out, f.camera);
-    const auto ref = reference::shade(f.gbuffer, f.camera, decals, roundingMargin(f.gbuffer));
-    const Comparison c = compareWithReference(f.gbuffer, out, ref, albedoTolerance(f.gbuffer));
+    const auto [out, c] = compositeAndCompare(f, decals);
     EXPECT_EQ(c.mismatched, 0u) << "max error " << c.max_error;
 }
 

@@ -89,6 +89,20 @@ void checkChannel(const Files& files, const ChannelRef& ref, bool allow_uint, co
                                      channel.qualified, label));
 }
 
+// Calls visit(frame_index, channel_index) for every pixel in the overlap of the frame's window
+// and a channel's data window, row by row; indices are into each one's own row-major samples.
+template <typename Visit>
+void forEachOverlapPixel(const Imath::Box2i& window, const Imath::Box2i& dw, Visit visit) {
+    const std::size_t width = std::size_t(window.max.x - window.min.x + 1);
+    const long long channel_width = (long long)dw.max.x - dw.min.x + 1;
+    const int x0 = std::max(window.min.x, dw.min.x), x1 = std::min(window.max.x, dw.max.x);
+    const int y0 = std::max(window.min.y, dw.min.y), y1 = std::min(window.max.y, dw.max.y);
+    for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x)
+            visit(std::size_t(y - window.min.y) * width + std::size_t(x - window.min.x),
+                  std::size_t((long long)(y - dw.min.y) * channel_width + (x - dw.min.x)));
+}
+
 Plane readOnWindow(const Files& files, const std::vector<ChannelRef>& refs, const Imath::Box2i& window, float fill,
                    bool allow_uint, const std::string& label) {
     const std::size_t width = std::size_t(window.max.x - window.min.x + 1);
@@ -99,17 +113,9 @@ Plane readOnWindow(const Files& files, const std::vector<ChannelRef>& refs, cons
     for (int c = 0; c < plane.components; ++c) {
         checkChannel(files, refs[c], allow_uint, label);
         const ExrChannel& channel = channelAt(files, refs[c], label);
-        const Imath::Box2i dw = headerOf(files, refs[c]).dataWindow();
-        const long long channel_width = (long long)dw.max.x - dw.min.x + 1;
-        // The overlap of the two windows, row by row.
-        const int x0 = std::max(window.min.x, dw.min.x), x1 = std::min(window.max.x, dw.max.x);
-        const int y0 = std::max(window.min.y, dw.min.y), y1 = std::min(window.max.y, dw.max.y);
-        for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x) {
-                const std::size_t src = std::size_t((long long)(y - dw.min.y) * channel_width + (x - dw.min.x));
-                const std::size_t dst = std::size_t(y - window.min.y) * width + std::size_t(x - window.min.x);
-                plane.at(dst, c) = io::sampleAsFloat(channel, src);
-            }
+        forEachOverlapPixel(window, headerOf(files, refs[c]).dataWindow(), [&](std::size_t frame, std::size_t sample) {
+            plane.at(frame, c) = io::sampleAsFloat(channel, sample);
+        });
     }
     return plane;
 }
@@ -167,17 +173,11 @@ void store(const std::vector<ExrImage*>& files, const ChannelMapping& mapping, A
         const Imath::Box2i dw = image.parts[refs[c].part].header.dataWindow();
         if (channel.x_sampling != 1 || channel.y_sampling != 1)
             throw outputError(fmt::format("{}: channel {}: subsampled", image.path, channel.qualified));
-        const long long channel_width = (long long)dw.max.x - dw.min.x + 1;
-        const int x0 = std::max(window.min.x, dw.min.x), x1 = std::min(window.max.x, dw.max.x);
-        const int y0 = std::max(window.min.y, dw.min.y), y1 = std::min(window.max.y, dw.max.y);
         // Only changed pixels are re-encoded, so untouched ones keep their exact original bits.
-        for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x) {
-                const std::size_t dst = std::size_t((long long)(y - dw.min.y) * channel_width + (x - dw.min.x));
-                const std::size_t src = std::size_t(y - window.min.y) * width + std::size_t(x - window.min.x);
-                const float value = plane.at(src, c);
-                if (!sameBits(value, io::sampleAsFloat(channel, dst))) io::storeSample(channel, dst, value);
-            }
+        forEachOverlapPixel(window, dw, [&](std::size_t frame, std::size_t sample) {
+            const float value = plane.at(frame, c);
+            if (!sameBits(value, io::sampleAsFloat(channel, sample))) io::storeSample(channel, sample, value);
+        });
     }
 }
 
