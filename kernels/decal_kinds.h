@@ -1,5 +1,5 @@
 /* Per-kind projection of a camera-space point into a decal (docs/conventions.md "Decals"):
- * the inside test, texture lookup and the kind's own falloff and fades. */
+ * the inside test, the kind's own falloff and fades, and where its textures are looked up. */
 #ifndef DECALCOMP_DECAL_KINDS_H
 #define DECALCOMP_DECAL_KINDS_H
 
@@ -18,80 +18,101 @@ inline float2 dc_frustum_st(__global const DcDecal* d, float3 l) {
     return (float2)(0.5f + l.x / (2.0f * half_w), 0.5f - l.y / (2.0f * half_h));
 }
 
-/* A 2D lookup with the decal's filter; for mip filtering the level comes from where the
- * neighbour pixels' footprint points (local lx, ly) map to, through the same `st` mapping. */
-#define DC_SAMPLE_2D(ST_OF)                                                                              \
-    do {                                                                                                 \
-        const float2 st = ST_OF(l);                                                                      \
-        if (d->filter == DC_FILTER_MIP) {                                                                \
-            const float3 lx = dc_affine_global(d->camera_to_local, p_dx);                                \
-            const float3 ly = dc_affine_global(d->camera_to_local, p_dy);                                \
-            const float lod = footprint ? dc_lod(st, ST_OF(lx), ST_OF(ly), textures[d->texture]) : 1e9f; \
-            texel = dc_sample_mip(texels, textures, d->texture, st.x, st.y, 0, lod);                     \
-        } else {                                                                                         \
-            texel = dc_sample_2d(texels, textures[d->texture], st.x, st.y, d->filter);                   \
-        }                                                                                                \
-    } while (0)
-#define DC_BOX_ST(v) ((float2)((v).x + 0.5f, 0.5f - (v).y))
-#define DC_FRUSTUM_ST(v) dc_frustum_st(d, (v))
+/* A decal's local vector in camera space (the linear part of local_to_camera). */
+inline float3 dc_local_vector(__global const DcDecal* d, float3 v) {
+    return (float3)(dot(vload3(0, d->local_to_camera), v), dot(vload3(0, d->local_to_camera + 4), v),
+                    dot(vload3(0, d->local_to_camera + 8), v));
+}
 
-/* Returns the decal's premultiplied colour at p with alpha scaled by the kind's falloff and every
- * fade, or alpha 0 when p is outside. `normal` is the camera-space surface normal (used only
+inline float3 dc_decal_origin(__global const DcDecal* d) {
+    return (float3)(d->local_to_camera[3], d->local_to_camera[7], d->local_to_camera[11]);
+}
+
+/* Where a pixel meets one decal: the texture coordinates (s, t, and r for volumes; `face` for
+ * cubes), the same at the pixel's footprint points, and the product of falloff and fades. */
+typedef struct {
+    float fade; /* 0: the point is outside or faded out */
+    float3 coord, coord_dx, coord_dy;
+    int face;
+    int has_footprint;
+    float3 facing; /* camera-space direction a receiving surface faces */
+} DcLookup;
+
+/* Fills `lk` for the decal at camera-space point p. `normal` is the surface normal (used only
  * when `has_normal`); p_dx and p_dy are the footprint points (used when `footprint`). */
-inline float4 dc_decal_colour(__global const DcDecal* d, __global const DcTexture* textures,
-                              __global const float4* texels, float3 p, float3 normal, int has_normal, float3 p_dx,
-                              float3 p_dy, int footprint) {
+inline DcLookup dc_decal_lookup(__global const DcDecal* d, float3 p, float3 normal, int has_normal, float3 p_dx,
+                                float3 p_dy, int footprint) {
+    DcLookup lk;
+    lk.fade = 0.0f;
+    lk.face = 0;
+    lk.has_footprint = footprint && d->filter == DC_FILTER_MIP;
     const float3 l = dc_affine_global(d->camera_to_local, p);
+    const float3 lx = lk.has_footprint ? dc_affine_global(d->camera_to_local, p_dx) : l;
+    const float3 ly = lk.has_footprint ? dc_affine_global(d->camera_to_local, p_dy) : l;
     float fade = 1.0f;
-    float4 texel;
-    const bool angle_fade = has_normal && d->angle_fade[1] > 0.0f;
     if (d->kind == DC_KIND_BOX || d->kind == DC_KIND_VOLUME) {
-        if (!(fabs(l.x) <= 0.5f && fabs(l.y) <= 0.5f && fabs(l.z) <= 0.5f)) return (float4)(0.0f);
+        if (!(fabs(l.x) <= 0.5f && fabs(l.y) <= 0.5f && fabs(l.z) <= 0.5f)) return lk;
         if (d->axis_fade > 0.0f) fade *= clamp((0.5f - fabs(l.z)) / (0.5f * d->axis_fade), 0.0f, 1.0f);
-        if (angle_fade) fade *= dc_angle_fade(d, normal, vload3(0, d->facing_axis));
-        if (d->texture < 0) return (float4)(0.0f);
-        if (d->kind == DC_KIND_BOX)
-            DC_SAMPLE_2D(DC_BOX_ST);
-        else /* volumes have no mip chain of their own: "mip" samples level 0 trilinearly */
-            texel = dc_sample_3d(texels, textures[d->texture], l.x + 0.5f, 0.5f - l.y, l.z + 0.5f,
-                                 d->filter == DC_FILTER_NEAREST ? DC_FILTER_NEAREST : DC_FILTER_LINEAR);
+        lk.facing = vload3(0, d->facing_axis);
+        lk.coord = (float3)(l.x + 0.5f, 0.5f - l.y, l.z + 0.5f);
+        lk.coord_dx = (float3)(lx.x + 0.5f, 0.5f - lx.y, lx.z + 0.5f);
+        lk.coord_dy = (float3)(ly.x + 0.5f, 0.5f - ly.y, ly.z + 0.5f);
     } else if (d->kind == DC_KIND_FRUSTUM) {
         const float dist = -l.z;
         const float half_h = dist * d->tan_half_fov_y, half_w = half_h * d->aspect;
-        if (!(dist >= d->near_plane && dist <= d->far_plane && fabs(l.x) <= half_w && fabs(l.y) <= half_h))
-            return (float4)(0.0f);
+        if (!(dist >= d->near_plane && dist <= d->far_plane && fabs(l.x) <= half_w && fabs(l.y) <= half_h)) return lk;
         if (d->distance_fade[1] > 0.0f) fade *= dc_ramp_down(dist, d->distance_fade[0], d->distance_fade[1]);
-        if (angle_fade) {
-            const float3 origin = (float3)(d->local_to_camera[3], d->local_to_camera[7], d->local_to_camera[11]);
-            fade *= dc_angle_fade(d, normal, normalize(origin - p));
-        }
-        if (d->texture < 0) return (float4)(0.0f);
-        DC_SAMPLE_2D(DC_FRUSTUM_ST);
+        lk.facing = normalize(dc_decal_origin(d) - p);
+        lk.coord = (float3)(dc_frustum_st(d, l), 0.0f);
+        lk.coord_dx = (float3)(dc_frustum_st(d, lx), 0.0f);
+        lk.coord_dy = (float3)(dc_frustum_st(d, ly), 0.0f);
     } else { /* DC_KIND_CUBE */
         const float r = length(l);
-        if (!(r <= 0.5f)) return (float4)(0.0f);
+        if (!(r <= 0.5f) || !(r > 0.0f)) return lk;
         fade *= clamp(1.0f - r / 0.5f, 0.0f, 1.0f);
-        if (angle_fade) {
-            const float3 centre = (float3)(d->local_to_camera[3], d->local_to_camera[7], d->local_to_camera[11]);
-            fade *= dc_angle_fade(d, normal, normalize(centre - p));
-        }
-        if (d->texture < 0 || !(r > 0.0f)) return (float4)(0.0f);
-        const int face = dc_cube_face(l);
-        const float2 st = dc_cube_face_st(l, face);
-        if (d->filter == DC_FILTER_MIP) {
-            const float3 lx = dc_affine_global(d->camera_to_local, p_dx), ly = dc_affine_global(d->camera_to_local, p_dy);
-            const float lod = footprint ? dc_lod(st, dc_cube_face_st(lx, face), dc_cube_face_st(ly, face), textures[d->texture])
-                                        : 1e9f;
-            texel = dc_sample_mip(texels, textures, d->texture, st.x, st.y, face, lod);
-        } else {
-            texel = dc_sample_slice(texels, textures[d->texture], st.x, st.y, face, d->filter);
-        }
+        lk.facing = normalize(dc_decal_origin(d) - p);
+        lk.face = dc_cube_face(l);
+        lk.coord = (float3)(dc_cube_face_st(l, lk.face), 0.0f);
+        /* the footprint's directions measured on this pixel's face, even past its edge */
+        lk.coord_dx = (float3)(dc_cube_face_st(lx, lk.face), 0.0f);
+        lk.coord_dy = (float3)(dc_cube_face_st(ly, lk.face), 0.0f);
     }
-    return texel * fade;
+    if (has_normal && d->angle_fade[1] > 0.0f) fade *= dc_angle_fade(d, normal, lk.facing);
+    lk.fade = fade;
+    return lk;
 }
 
-#undef DC_SAMPLE_2D
-#undef DC_BOX_ST
-#undef DC_FRUSTUM_ST
+/* One texture of the decal's set at the lookup's coordinates, with the decal's filter;
+ * premultiplied RGBA. Mip levels come from the footprint mapped the same way. */
+inline float4 dc_lookup_texel(__global const DcDecal* d, const DcLookup* lk, __global const DcTexture* textures,
+                              __global const float4* texels, int index) {
+    if (d->kind == DC_KIND_VOLUME) /* volumes have no mip chain of their own: "mip" samples level 0 trilinearly */
+        return dc_sample_3d(texels, textures[index], lk->coord.x, lk->coord.y, lk->coord.z,
+                            d->filter == DC_FILTER_NEAREST ? DC_FILTER_NEAREST : DC_FILTER_LINEAR);
+    if (d->filter == DC_FILTER_MIP) {
+        const float lod = lk->has_footprint ? dc_lod(lk->coord.xy, lk->coord_dx.xy, lk->coord_dy.xy, textures[index]) : 1e9f;
+        return dc_sample_mip(texels, textures, index, lk->coord.x, lk->coord.y, lk->face, lod);
+    }
+    return dc_sample_slice(texels, textures[index], lk->coord.x, lk->coord.y, lk->face, d->filter);
+}
+
+/* Camera-space directions in which s grows and t falls (the image's right and up) at the
+ * lookup: the decal's local X and Y, or a cube face's axes (faces seen from inside are
+ * mirrored, so the frame built from them may be left-handed, as the image is). */
+inline void dc_decal_image_axes(__global const DcDecal* d, const DcLookup* lk, float3* right, float3* up) {
+    float3 r = (float3)(1.0f, 0.0f, 0.0f), u = (float3)(0.0f, 1.0f, 0.0f);
+    if (d->kind == DC_KIND_CUBE) {
+        switch (lk->face) {
+            case 0: r = (float3)(0.0f, 0.0f, -1.0f); break;
+            case 1: r = (float3)(0.0f, 0.0f, 1.0f); break;
+            case 2: u = (float3)(0.0f, 0.0f, -1.0f); break;
+            case 3: u = (float3)(0.0f, 0.0f, 1.0f); break;
+            case 4: break;
+            default: r = (float3)(-1.0f, 0.0f, 0.0f); break;
+        }
+    }
+    *right = dc_local_vector(d, r);
+    *up = dc_local_vector(d, u);
+}
 
 #endif

@@ -1,34 +1,59 @@
-/* Shading: per pixel, the camera-space point, then the tile's decals in order, each blended
- * into the albedo (DESIGN.md section 3). Background pixels are copied through unchanged. */
+/* Shading: per pixel, the camera-space point, then the tile's decals in order, each blended into
+ * the material (DESIGN.md section 3). Background pixels are copied through unchanged.
+ * The material travels in three float4 planes: (albedo, roughness), (world normal, metallic),
+ * (emission, ao); DcFrame::attributes says which of their parts the frame has. */
 #include "shared_types.h"
 #include "matrix.h"
 #include "reconstruct.h"
 #include "texture_sample.h"
 #include "decal_kinds.h"
+#include "materials.h"
+
+inline float3 dc_world_to_camera_vector(__constant const DcFrame* f, float3 v) {
+    return (float3)(dot(vload3(0, f->world_to_camera), v), dot(vload3(0, f->world_to_camera + 4), v),
+                    dot(vload3(0, f->world_to_camera + 8), v));
+}
+
+/* The inverse for directions: the transpose of the (rotation) part of world_to_camera. */
+inline float3 dc_camera_to_world_vector(__constant const DcFrame* f, float3 v) {
+    const __constant float* m = f->world_to_camera;
+    return normalize((float3)(m[0] * v.x + m[4] * v.y + m[8] * v.z, m[1] * v.x + m[5] * v.y + m[9] * v.z,
+                              m[2] * v.x + m[6] * v.y + m[10] * v.z));
+}
 
 __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t depth_image,
-                       __read_only image2d_t position_image, __read_only image2d_t normal_image,
-                       __read_only image2d_t albedo_in, __global float4* albedo_out,
+                       __read_only image2d_t position_image, __read_only image2d_t surface0_in,
+                       __read_only image2d_t surface1_in, __read_only image2d_t surface2_in,
+                       __global float4* surface0_out, __global float4* surface1_out, __global float4* surface2_out,
                        __global const DcDecal* decals, __global const DcTexture* textures,
                        __global const float4* texels, __global const int* tile_offsets,
                        __global const int* tile_decals, int binned, __global const float* mask_weights) {
     const int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame->width || y >= frame->height) return;
-    float4 albedo = read_imagef(albedo_in, dc_pixel_sampler, (int2)(x, y));
+    const int2 xy = (int2)(x, y);
+    const int attributes = frame->attributes;
+    const bool has_group1 = (attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
+    const bool has_group2 = (attributes & ((1 << DC_TARGET_EMISSION) | (1 << DC_TARGET_AO))) != 0;
+    const float4 in0 = read_imagef(surface0_in, dc_pixel_sampler, xy);
+    const float4 in1 = has_group1 ? read_imagef(surface1_in, dc_pixel_sampler, xy) : (float4)(0.0f);
+    const float4 in2 = has_group2 ? read_imagef(surface2_in, dc_pixel_sampler, xy) : (float4)(0.0f);
+    float4 out0 = in0, out1 = in1, out2 = in2;
     float3 p;
     if (dc_reconstruct(frame, depth_image, position_image, x, y, &p)) {
         float3 normal = (float3)(0.0f);
-        if (frame->reconstruct_normals) {
-            normal = dc_normal_from_depth(frame, depth_image, position_image, x, y, p);
-        } else if (frame->has_normal) {
-            const float3 n = read_imagef(normal_image, dc_pixel_sampler, (int2)(x, y)).xyz;
-            normal = (float3)(dot(vload3(0, frame->world_to_camera), n), dot(vload3(0, frame->world_to_camera + 4), n),
-                              dot(vload3(0, frame->world_to_camera + 8), n));
-            normal = normalize(normal);
-        }
+        if (frame->reconstruct_normals) normal = dc_normal_from_depth(frame, depth_image, position_image, x, y, p);
+        else if (frame->has_normal) normal = normalize(dc_world_to_camera_vector(frame, in1.xyz));
+        const int has_normal = frame->has_normal || frame->reconstruct_normals;
         float3 p_dx = p, p_dy = p;
-        const int footprint = (frame->has_normal || frame->reconstruct_normals) &&
-                              dc_footprint(frame, x, y, p, normal, &p_dx, &p_dy);
+        const int footprint = has_normal && frame->needs_footprint && dc_footprint(frame, x, y, p, normal, &p_dx, &p_dy);
+        DcSurface s;
+        s.albedo = in0.xyz;
+        s.roughness = in0.w;
+        s.normal = normal;
+        s.metallic = in1.w;
+        s.emission = in2.xyz;
+        s.ao = in2.w;
+        s.normal_changed = 0;
         int begin = 0, end = frame->decal_count;
         if (binned) {
             const int tile = (y / DC_TILE_SIZE) * frame->tiles_x + x / DC_TILE_SIZE;
@@ -37,16 +62,18 @@ __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t de
         }
         for (int k = begin; k < end; ++k) {
             __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
-            const float4 colour =
-                dc_decal_colour(d, textures, texels, p, normal, frame->has_normal || frame->reconstruct_normals, p_dx,
-                                p_dy, footprint);
-            if (!(colour.w > 0.0f)) continue;
+            const DcLookup lk = dc_decal_lookup(d, p, normal, has_normal, p_dx, p_dy, footprint);
+            if (!(lk.fade > 0.0f)) continue;
             float weight = d->opacity;
             if (d->mask >= 0) weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
-            /* premultiplied colour: straight colour * f == colour.rgb * weight */
-            const float f = clamp(colour.w * weight, 0.0f, 1.0f);
-            albedo.xyz = albedo.xyz * (1.0f - f) + colour.xyz * weight;
+            dc_apply_decal(frame, d, &lk, textures, texels, weight, normal, &s);
         }
+        out0 = (float4)(s.albedo, s.roughness);
+        out1 = (float4)(s.normal_changed ? dc_camera_to_world_vector(frame, s.normal) : in1.xyz, s.metallic);
+        out2 = (float4)(s.emission, s.ao);
     }
-    albedo_out[y * frame->width + x] = albedo;
+    const size_t i = (size_t)y * frame->width + x;
+    surface0_out[i] = out0;
+    if (has_group1) surface1_out[i] = out1;
+    if (has_group2) surface2_out[i] = out2;
 }

@@ -32,6 +32,28 @@ namespace decalcomp::cl_types {
 #define DC_FILTER_LINEAR 1
 #define DC_FILTER_MIP 2 /* trilinear over a mip chain, level from the pixel's footprint */
 
+/* Material attributes a decal writes, in this order in DcDecal's per-target arrays. */
+#define DC_TARGET_ALBEDO 0
+#define DC_TARGET_NORMAL 1
+#define DC_TARGET_ROUGHNESS 2
+#define DC_TARGET_METALLIC 3
+#define DC_TARGET_AO 4
+#define DC_TARGET_EMISSION 5
+#define DC_TARGETS 6
+/* DcFrame::attributes: bit (1 << DC_TARGET_x) set when the frame has that plane. */
+
+/* Blend ops for every target but the normal (docs/scene-format.md "Materials"). */
+#define DC_OP_OVER 0
+#define DC_OP_MULTIPLY 1
+#define DC_OP_ADD 2
+#define DC_OP_REPLACE 3
+
+/* How a decal's normal map combines with the surface normal. */
+#define DC_NORMAL_RNM 0 /* reoriented normal mapping */
+#define DC_NORMAL_UDN 1
+#define DC_NORMAL_WHITEOUT 2
+#define DC_NORMAL_REPLACE 3 /* the map in the decal's own frame, ignoring the surface's detail */
+
 /* Pixels with a planar view depth below this are never decaled (the binning clips decal
  * volumes at this distance in front of the camera). */
 #define DC_MIN_VIEW_DEPTH 1e-6f
@@ -55,6 +77,9 @@ typedef struct {
     DC_INT has_depth;  /* 0: position convention without a depth pass */
     DC_INT has_normal; /* a world-space normal image is bound (angle fades) */
     DC_INT reconstruct_normals; /* no normal pass but angle fades: normals from depth neighbours */
+    DC_INT attributes; /* bits (1 << DC_TARGET_x): material planes the frame has and decals change */
+    DC_INT needs_footprint; /* some decal filters with mips: compute the pixel footprint */
+    DC_INT pad0, pad1;
 } DcFrame;
 
 /* One decal, prepared on the host in double precision. */
@@ -74,7 +99,17 @@ typedef struct {
     DC_FLOAT angle_fade[2];
     DC_FLOAT axis_fade;       /* box/volume: faded fraction of the half-depth at both z ends; 0 = off */
     DC_FLOAT distance_fade[2]; /* frustum: fade from distance [0] to [1]; off if [1] <= 0 */
-    DC_INT pad0, pad1, pad2;
+    /* The rest of the texture set (albedo is `texture`): indices into the table, -1 = none. */
+    DC_INT normal_texture, orm_texture, emission_texture;
+    /* Per target (DC_TARGET_x): factor (0 = the decal leaves it alone) and blend op. */
+    DC_FLOAT factor[6];
+    DC_INT op[6];
+    /* Constants used where the set has no texture for a target; value_mask bit per target. */
+    DC_FLOAT albedo_value[3], emission_value[3];
+    DC_FLOAT roughness_value, metallic_value, ao_value;
+    DC_INT value_mask;
+    DC_INT normal_blend;     /* DC_NORMAL_x */
+    DC_FLOAT normal_strength; /* scales the map's tangent-plane tilt */
 } DcDecal;
 
 /* Where a texture's texels (float4, premultiplied linear RGBA, top row first) start. */

@@ -42,8 +42,10 @@ public:
     // Uploads the scene's textures once; decals are re-prepared per frame (they depend on the camera).
     void setScene(const DecalScene& scene);
 
-    // Blends the scene's decals into frame's albedo plane in place. The frame needs an albedo plane
-    // and a depth or position plane matching its depth convention. Throws Error(Input/Device).
+    // Blends the scene's decals into the frame's material planes in place (albedo, and the normal,
+    // roughness, metallic, ao and emission planes the frame has and some decal changes).
+    // The frame needs an albedo plane and a depth or position plane matching its depth convention.
+    // Throws Error(Input/Device).
     CompositeStats composite(GBuffer& frame, const Camera& camera, const CompositeOptions& options = {});
 
     // Tile depth ranges and per-tile lists of the last binned composite (downloaded on request).

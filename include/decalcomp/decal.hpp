@@ -1,6 +1,7 @@
 #pragma once
 // Decals and their textures as the compositor consumes them (already validated and decoded).
 #include <glm/glm.hpp>
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -8,9 +9,25 @@
 namespace decalcomp {
 
 enum class DecalKind { Box, Volume, Frustum, Cube };
+// The material attributes a decal can change, in kernel order (DC_TARGET_* in kernels/shared_types.h).
+enum class DecalTarget { Albedo, Normal, Roughness, Metallic, AmbientOcclusion, Emission };
+constexpr int kDecalTargets = 6;
+// How a target's decal value v meets the surface value a, with f = clamp(g, 0, 1) and
+// g = coverage * fades * opacity * mask * factor (docs/scene-format.md "Materials").
+enum class BlendOp {
+    Over,      // a (1 - f) + v f
+    Multiply,  // a (1 - f) + a v f
+    Add,       // a + v g
+    Replace,   // v wherever g > 0
+};
+// How a normal map combines with the surface's normal (docs/conventions.md "Normal maps").
+enum class NormalBlend { Reoriented, Udn, Whiteout, Replace };
 enum class TextureFilter { Nearest, Linear, Mip };
 
 const char* decalKindName(DecalKind k);
+const char* decalTargetName(DecalTarget t);  // "albedo", "normal", "roughness", "metallic", "ao", "emission"
+const char* blendOpName(BlendOp op);          // "over", "multiply", "add", "replace"
+const char* normalBlendName(NormalBlend b);   // "rnm", "udn", "whiteout", "replace"
 const char* textureFilterName(TextureFilter f);
 
 // RGBA texels in scene-linear colour with premultiplied alpha, row 0 = the image's top row.
@@ -49,11 +66,31 @@ struct DecalKeyframe {
 };
 enum class KeyframeInterpolation { Linear, Step };
 
+// What a decal does to one target. factor 0 leaves the target alone. `value` is a constant used
+// where the texture set has no texture for the target (albedo/emission: RGB; others: .r).
+struct TargetEffect {
+    float factor = 1.0f;
+    BlendOp op = BlendOp::Over;
+    std::optional<glm::vec3> value;
+    bool operator==(const TargetEffect&) const = default;
+};
+// Default ops: over, except multiply for ambient occlusion and add for emission.
+std::array<TargetEffect, kDecalTargets> defaultTargetEffects();
+
 struct Decal {
     std::string name;
     DecalKind kind = DecalKind::Box;
     glm::dmat4 world_matrix{1.0};  // decal local space -> world; local = inverse(M) * P
     int albedo_texture = -1;       // index into DecalScene::textures, -1 = none
+    // The rest of the texture set (seed 002), same shape as the albedo (2D, volume or cube):
+    // a tangent-space normal map (OpenGL, +Y up; data, not colour), occlusion/roughness/metallic
+    // in R/G/B, and an emission colour. -1 = none: the surface keeps that attribute.
+    int normal_texture = -1, orm_texture = -1, emission_texture = -1;
+    std::array<TargetEffect, kDecalTargets> effects = defaultTargetEffects();  // by DecalTarget
+    NormalBlend normal_blend = NormalBlend::Reoriented;
+    float normal_strength = 1.0f;  // scales the normal map's tilt; 0 = flat
+    TargetEffect& effect(DecalTarget t) { return effects[std::size_t(t)]; }
+    const TargetEffect& effect(DecalTarget t) const { return effects[std::size_t(t)]; }
     float opacity = 1.0f;          // in [0,1]
     TextureFilter filter = TextureFilter::Linear;
     int mask = -1;  // index into DecalScene::masks, -1 = no mask
@@ -90,6 +127,12 @@ DecalScene sceneAtFrame(const DecalScene& scene, double frame);
 std::vector<Decal> decalsAtFrame(const std::vector<Decal>& decals, double frame);
 std::optional<Decal> decalAtFrame(const Decal& decal, double frame);
 bool isAnimated(const DecalScene& scene);  // any decal with a lifetime or keyframes
+
+// Whether a decal changes a target: a positive factor and something to take the value from (a
+// texture of the set or a constant).
+bool decalAffects(const Decal& decal, DecalTarget target);
+// The targets any decal of the scene changes, by DecalTarget.
+std::array<bool, kDecalTargets> sceneTargets(const DecalScene& scene);
 
 // True when M is invertible with a usable condition (not degenerate to float precision).
 bool isInvertibleDecalMatrix(const glm::dmat4& m);

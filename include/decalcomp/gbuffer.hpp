@@ -9,11 +9,12 @@
 
 namespace decalcomp {
 
-enum class Attribute { Depth, Albedo, Normal, Position, ObjectId, UV, Roughness, Metallic };
-constexpr std::array<Attribute, 8> kAllAttributes = {Attribute::Depth,    Attribute::Albedo,
-                                                     Attribute::Normal,   Attribute::Position,
-                                                     Attribute::ObjectId, Attribute::UV,
-                                                     Attribute::Roughness, Attribute::Metallic};
+enum class Attribute {
+    Depth, Albedo, Normal, Position, ObjectId, UV, Roughness, Metallic, AmbientOcclusion, Emission
+};
+constexpr std::array<Attribute, 10> kAllAttributes = {
+    Attribute::Depth,    Attribute::Albedo,    Attribute::Normal,   Attribute::Position,         Attribute::ObjectId,
+    Attribute::UV,       Attribute::Roughness, Attribute::Metallic, Attribute::AmbientOcclusion, Attribute::Emission};
 const char* attributeName(Attribute a);             // "depth", "albedo", ...
 std::optional<Attribute> attributeFromName(const std::string& name);
 int attributeComponents(Attribute a);                // depth 1, albedo 3, normal 3, uv 2 ...
@@ -21,6 +22,14 @@ int attributeComponents(Attribute a);                // depth 1, albedo 3, norma
 enum class DepthConvention { Planar, Radial, Ndc, Position };
 const char* depthConventionName(DepthConvention c);  // "planar", "radial", "ndc", "position"
 std::optional<DepthConvention> depthConventionFromName(const std::string& name);
+
+// How the normal plane stores its vectors: in world or camera space (the camera's own axes,
+// -Z forward, +Y up), signed or packed as n * 0.5 + 0.5.
+enum class NormalSpace { World, Camera };
+struct NormalEncoding {
+    NormalSpace space = NormalSpace::World;
+    bool packed = false;
+};
 
 // Interleaved float samples, `components` per pixel, rows top to bottom.
 struct Plane {
@@ -36,6 +45,7 @@ struct GBuffer {
     int display_width = 0, display_height = 0;  // display window size (defines NDC)
     DepthConvention depth_convention = DepthConvention::Planar;
     bool reversed_z = false;                    // only for DepthConvention::Ndc
+    NormalEncoding normal_encoding;             // of the Normal plane, as in the file
     std::map<Attribute, Plane> planes;
     // One single-component weight plane per DecalScene::masks entry, evaluated for this frame.
     std::vector<Plane> mask_weights;

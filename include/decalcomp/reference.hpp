@@ -3,6 +3,8 @@
 // written from the conventions (docs/conventions.md) and not from the kernels. Tests compare the
 // OpenCL kernels with it.
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -43,8 +45,39 @@ struct CubeLookup {
 };
 CubeLookup cubeLookup(const glm::dvec3& direction);
 
+// ---- Materials (docs/conventions.md "Materials"), in world space.
+
+// A pixel's material while decals are applied.
+struct Surface {
+    glm::dvec3 albedo{0.0}, normal{0.0}, emission{0.0};  // normal: world-space unit vector
+    double roughness = 0.0, metallic = 0.0, ao = 0.0;
+    bool normal_changed = false;
+};
+Surface surfaceAt(const std::map<Attribute, Plane>& planes, std::size_t pixel);  // normal left 0
+void storeSurface(const Surface& surface, std::size_t pixel, std::map<Attribute, Plane>& planes);  // all but the normal
+
+// What a decal offers at one point: its textures' premultiplied texels (nullopt = no such
+// texture) and the world directions of its frame.
+struct DecalValues {
+    std::optional<glm::dvec4> albedo, normal, orm, emission;
+    glm::dvec3 facing{0.0}, right{0.0}, up{0.0};
+};
+
+// One target's blend: a with value v at strength g (f = clamp(g, 0, 1)).
+double blend(double a, double v, double g, BlendOp op);
+glm::dvec3 blend(const glm::dvec3& a, const glm::dvec3& v, double g, BlendOp op);
+// Base and detail normals in a tangent frame (z = the frame's normal), combined.
+glm::dvec3 combineNormals(const glm::dvec3& base, const glm::dvec3& detail, NormalBlend mode);
+
+// Blends a decal into `surface`. `strength` is fades x opacity x mask (coverage comes from the
+// textures); `surface_normal` the G-buffer's world normal; `has(t)` whether the frame has the
+// target's plane. Returns true when some target changed.
+bool applyDecal(const Decal& decal, const DecalValues& values, double strength, const glm::dvec3& surface_normal,
+                const std::function<bool(DecalTarget)>& has, Surface& surface);
+
 struct ShadeResult {
-    Plane albedo;
+    std::map<Attribute, Plane> planes;  // every material plane of the frame, decals applied
+    Plane albedo;                       // the same as planes[Albedo]
     // 1 where float rounding may legitimately flip the result: the point lies within `margin`
     // of a decal's box face, or a nearest lookup lies within `margin` of a texel edge.
     std::vector<std::uint8_t> ambiguous;

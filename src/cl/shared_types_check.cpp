@@ -6,7 +6,8 @@
 
 namespace decalcomp::cl_types {
 
-static_assert(sizeof(DcFrame) == 256, "DcFrame layout changed: update the kernels too");
+static_assert(sizeof(DcFrame) == 272, "DcFrame layout changed: update the kernels too");
+static_assert(offsetof(DcFrame, attributes) == 256);
 static_assert(offsetof(DcFrame, projection) == 64);
 static_assert(offsetof(DcFrame, world_to_camera) == 128);
 static_assert(offsetof(DcFrame, width) == 192);
@@ -14,7 +15,11 @@ static_assert(offsetof(DcFrame, far_plane) == 224);
 static_assert(offsetof(DcFrame, has_depth) == 244);
 static_assert(offsetof(DcFrame, has_normal) == 248);
 static_assert(offsetof(DcFrame, reconstruct_normals) == 252);
-static_assert(sizeof(DcDecal) == 176);
+static_assert(sizeof(DcDecal) == 272);
+static_assert(offsetof(DcDecal, normal_texture) == 164);
+static_assert(offsetof(DcDecal, factor) == 176);
+static_assert(offsetof(DcDecal, op) == 200);
+static_assert(offsetof(DcDecal, value_mask) == 260);
 static_assert(offsetof(DcDecal, facing_axis) == 132);
 static_assert(offsetof(DcDecal, distance_fade) == 156);
 static_assert(offsetof(DcDecal, mask) == 112);

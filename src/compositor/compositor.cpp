@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <numeric>
 
 #include "compositor/kernel_params.hpp"
+#include "compositor/surface_planes.hpp"
 #include "decalcomp/error.hpp"
 
 namespace decalcomp {
@@ -84,6 +86,7 @@ struct Compositor::State {
     cl::Buffer texture_table, texels;
     std::size_t mask_count = 0;
     std::vector<int> texture_entries;  // scene texture index -> texture table entry
+    std::array<bool, kDecalTargets> targets{};  // what the scene's decals change
     DecalScene scene;  // decals only; textures live on the device
     // last frame's binning, kept for lastBinning()
     cl::Buffer tile_depth, tile_offsets, tile_decals;
@@ -115,8 +118,9 @@ Compositor::~Compositor() = default;
 void Compositor::setScene(const DecalScene& scene) {
     const PackedTextures packed = packTextures(scene.textures);
     for (const Decal& d : scene.decals)
-        if (d.albedo_texture >= int(scene.textures.size()))
-            throw inputError(fmt::format("decal '{}': texture index {} out of range", d.name, d.albedo_texture));
+        for (int index : {d.albedo_texture, d.normal_texture, d.orm_texture, d.emission_texture})
+            if (index >= int(scene.textures.size()))
+                throw inputError(fmt::format("decal '{}': texture index {} out of range", d.name, index));
     try {
         state_->texture_table = makeBuffer(device_.context(), CL_MEM_READ_ONLY, packed.table);
         state_->texels = makeBuffer(device_.context(), CL_MEM_READ_ONLY, packed.texels);
@@ -130,6 +134,7 @@ void Compositor::setScene(const DecalScene& scene) {
     state_->texture_entries = packed.first_entry;
     state_->mask_count = scene.masks.size();
     state_->scene.textures.clear();
+    state_->targets = sceneTargets(scene);
 }
 
 CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const CompositeOptions& options) {
@@ -149,12 +154,16 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     cl::CommandQueue& queue = device_.queue();
     const auto decals = makeDecalParams(s.scene, camera, s.texture_entries);
     cl_types::DcFrame params = makeFrameParams(frame, camera, int(decals.size()));
-    // Normals are read only for angle fades and mip footprints: skip their upload otherwise.
-    const bool needs_normals = std::any_of(s.scene.decals.begin(), s.scene.decals.end(), [](const Decal& d) {
-        return d.angle_fade_deg[1] > 0.0 || d.filter == TextureFilter::Mip;
-    });
-    if (!needs_normals) params.has_normal = 0;
+    // Normals are read for angle fades, mip footprints and normal maps: skip their upload otherwise.
+    const bool needs_footprint = std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
+                                             [](const Decal& d) { return d.filter == TextureFilter::Mip; });
+    const bool needs_normals = needs_footprint || std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
+                                                              [](const Decal& d) { return d.angle_fade_deg[1] > 0.0; });
+    const SurfacePlanes surface = packSurface(frame, camera, s.targets, needs_normals);
+    params.attributes = surface.attributes;
+    params.has_normal = (surface.attributes & (1 << DC_TARGET_NORMAL)) ? 1 : 0;
     params.reconstruct_normals = needs_normals && !params.has_normal ? 1 : 0;
+    params.needs_footprint = needs_footprint ? 1 : 0;
     const std::size_t pixels = frame.pixelCount();
     const int tiles = params.tiles_x * params.tiles_y;
 
@@ -171,12 +180,14 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         cl::Image2D position = uses_position ? makeImage(context, frame.width, frame.height, 4,
                                                          imagePixels(frame.planes.at(Attribute::Position), pixels, 4))
                                              : placeholderImage(context, 4);
-        cl::Image2D normal = params.has_normal ? makeImage(context, frame.width, frame.height, 4,
-                                                           imagePixels(frame.planes.at(Attribute::Normal), pixels, 4))
-                                               : placeholderImage(context, 4);
-        Plane& albedo = frame.planes.at(Attribute::Albedo);
-        cl::Image2D albedo_in = makeImage(context, frame.width, frame.height, 4, imagePixels(albedo, pixels, 4));
-        cl::Buffer albedo_out(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4));
+        std::array<cl::Image2D, kSurfaceGroups> surface_in;
+        std::array<cl::Buffer, kSurfaceGroups> surface_out;
+        for (int g = 0; g < kSurfaceGroups; ++g) {
+            const bool used = surface.groupUsed(g);
+            surface_in[std::size_t(g)] = used ? makeImage(context, frame.width, frame.height, 4, surface.groups[std::size_t(g)])
+                                              : placeholderImage(context, 4);
+            surface_out[std::size_t(g)] = cl::Buffer(context, CL_MEM_WRITE_ONLY, (used ? pixels : 1) * sizeof(cl_float4));
+        }
         cl::Buffer decal_buffer = makeBuffer(context, CL_MEM_READ_ONLY, decals);
         cl::Buffer mask_buffer = makeBuffer(context, CL_MEM_READ_ONLY, packMaskWeights(frame, s.mask_count));
 
@@ -278,23 +289,28 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         s.shade.setArg(0, frame_buffer);
         s.shade.setArg(1, depth);
         s.shade.setArg(2, position);
-        s.shade.setArg(3, normal);
-        s.shade.setArg(4, albedo_in);
-        s.shade.setArg(5, albedo_out);
-        s.shade.setArg(6, decal_buffer);
-        s.shade.setArg(7, s.texture_table);
-        s.shade.setArg(8, s.texels);
-        s.shade.setArg(9, s.tile_offsets);
-        s.shade.setArg(10, s.tile_decals);
-        s.shade.setArg(11, cl_int(options.binned && !decals.empty() ? 1 : 0));
-        s.shade.setArg(12, mask_buffer);
+        for (int g = 0; g < kSurfaceGroups; ++g) {
+            s.shade.setArg(cl_uint(3 + g), surface_in[std::size_t(g)]);
+            s.shade.setArg(cl_uint(6 + g), surface_out[std::size_t(g)]);
+        }
+        s.shade.setArg(9, decal_buffer);
+        s.shade.setArg(10, s.texture_table);
+        s.shade.setArg(11, s.texels);
+        s.shade.setArg(12, s.tile_offsets);
+        s.shade.setArg(13, s.tile_decals);
+        s.shade.setArg(14, cl_int(options.binned && !decals.empty() ? 1 : 0));
+        s.shade.setArg(15, mask_buffer);
         queue.enqueueNDRangeKernel(s.shade, cl::NullRange, cl::NDRange(std::size_t(frame.width), std::size_t(frame.height)),
                                    cl::NullRange, nullptr, &e_shade);
-        std::vector<float> result(pixels * 4);
-        queue.enqueueReadBuffer(albedo_out, CL_TRUE, 0, result.size() * sizeof(float), result.data());
+        std::array<std::vector<float>, kSurfaceGroups> results;
+        for (int g = 0; g < kSurfaceGroups; ++g) {
+            if (!surface.groupUsed(g)) continue;
+            results[std::size_t(g)].resize(pixels * 4);
+            queue.enqueueReadBuffer(surface_out[std::size_t(g)], CL_TRUE, 0, pixels * sizeof(cl_float4),
+                                    results[std::size_t(g)].data());
+        }
         stats.shading_ms = eventMs(e_shade);
-        for (std::size_t i = 0; i < pixels; ++i)
-            for (int c = 0; c < albedo.components && c < 4; ++c) albedo.at(i, c) = result[i * 4 + c];
+        unpackSurface(frame, camera, surface, results, s.targets);
     } catch (const cl::Error& e) {
         throw deviceError(fmt::format("{}: {} failed: {}", device_.info().name, e.what(), clErrorName(e.err())));
     }

@@ -33,6 +33,57 @@ int conventionCode(DepthConvention c) {
     return DC_DEPTH_PLANAR;
 }
 
+int opCode(BlendOp op) {
+    switch (op) {
+        case BlendOp::Over: return DC_OP_OVER;
+        case BlendOp::Multiply: return DC_OP_MULTIPLY;
+        case BlendOp::Add: return DC_OP_ADD;
+        case BlendOp::Replace: return DC_OP_REPLACE;
+    }
+    return DC_OP_OVER;
+}
+
+int normalBlendCode(NormalBlend b) {
+    switch (b) {
+        case NormalBlend::Reoriented: return DC_NORMAL_RNM;
+        case NormalBlend::Udn: return DC_NORMAL_UDN;
+        case NormalBlend::Whiteout: return DC_NORMAL_WHITEOUT;
+        case NormalBlend::Replace: return DC_NORMAL_REPLACE;
+    }
+    return DC_NORMAL_RNM;
+}
+
+int textureEntry(int scene_index, const std::vector<int>& texture_entries) {
+    return scene_index >= 0 ? texture_entries.at(std::size_t(scene_index)) : -1;
+}
+
+// The texture set, per-target factors, ops and constants. Targets the decal cannot change (no
+// texture, no constant) get factor 0, so the kernel skips them.
+void setMaterialParams(const Decal& decal, const std::vector<int>& texture_entries, cl_types::DcDecal& d) {
+    d.texture = textureEntry(decal.albedo_texture, texture_entries);
+    d.normal_texture = textureEntry(decal.normal_texture, texture_entries);
+    d.orm_texture = textureEntry(decal.orm_texture, texture_entries);
+    d.emission_texture = textureEntry(decal.emission_texture, texture_entries);
+    d.value_mask = 0;
+    for (int t = 0; t < kDecalTargets; ++t) {
+        const TargetEffect& e = decal.effects[std::size_t(t)];
+        d.factor[t] = decalAffects(decal, DecalTarget(t)) ? e.factor : 0.0f;
+        d.op[t] = opCode(e.op);
+        if (e.value) d.value_mask |= 1 << t;
+    }
+    const glm::vec3 albedo = decal.effect(DecalTarget::Albedo).value.value_or(glm::vec3(0.0f));
+    const glm::vec3 emission = decal.effect(DecalTarget::Emission).value.value_or(glm::vec3(0.0f));
+    for (int i = 0; i < 3; ++i) {
+        d.albedo_value[i] = albedo[i];
+        d.emission_value[i] = emission[i];
+    }
+    d.roughness_value = decal.effect(DecalTarget::Roughness).value.value_or(glm::vec3(0.0f)).r;
+    d.metallic_value = decal.effect(DecalTarget::Metallic).value.value_or(glm::vec3(0.0f)).r;
+    d.ao_value = decal.effect(DecalTarget::AmbientOcclusion).value.value_or(glm::vec3(0.0f)).r;
+    d.normal_blend = normalBlendCode(decal.normal_blend);
+    d.normal_strength = decal.normal_strength;
+}
+
 }  // namespace
 
 int tileCount(int pixels) { return (pixels + DC_TILE_SIZE - 1) / DC_TILE_SIZE; }
@@ -74,7 +125,6 @@ std::vector<cl_types::DcDecal> makeDecalParams(const DecalScene& scene, const Ca
         d.filter = decal.filter == TextureFilter::Nearest ? DC_FILTER_NEAREST
                    : decal.filter == TextureFilter::Linear ? DC_FILTER_LINEAR
                                                            : DC_FILTER_MIP;
-        d.texture = decal.albedo_texture >= 0 ? texture_entries.at(std::size_t(decal.albedo_texture)) : -1;
         d.opacity = decal.opacity;
         d.mask = decal.mask;
         d.tan_half_fov_y = float(std::tan(glm::radians(decal.fov_y_deg) / 2.0));
@@ -88,6 +138,7 @@ std::vector<cl_types::DcDecal> makeDecalParams(const DecalScene& scene, const Ca
         d.axis_fade = float(decal.axis_fade);
         d.distance_fade[0] = float(decal.distance_fade[0]);
         d.distance_fade[1] = float(decal.distance_fade[1]);
+        setMaterialParams(decal, texture_entries, d);
         out.push_back(d);
     }
     return out;

@@ -12,6 +12,8 @@ const char* attributeName(Attribute a) {
         case Attribute::UV: return "uv";
         case Attribute::Roughness: return "roughness";
         case Attribute::Metallic: return "metallic";
+        case Attribute::AmbientOcclusion: return "ao";
+        case Attribute::Emission: return "emission";
     }
     return "?";
 }
@@ -27,7 +29,8 @@ int attributeComponents(Attribute a) {
     switch (a) {
         case Attribute::Albedo:
         case Attribute::Normal:
-        case Attribute::Position: return 3;
+        case Attribute::Position:
+        case Attribute::Emission: return 3;
         case Attribute::UV: return 2;
         default: return 1;
     }

@@ -141,6 +141,8 @@ GBuffer extract(const Files& files, const ChannelMapping& mapping) {
         throw inputError(fmt::format("{}: empty data or display window", window.owner));
     gbuffer.depth_convention = mapping.depth_convention;
     gbuffer.reversed_z = mapping.reversed_z;
+    gbuffer.normal_encoding.space = mapping.normal_space == "camera" ? NormalSpace::Camera : NormalSpace::World;
+    gbuffer.normal_encoding.packed = mapping.normal_encoding == "unsigned";
     for (const auto& [attribute, refs] : mapping.attributes)
         gbuffer.planes[attribute] = readOnWindow(files, refs, window.data, fillFor(attribute),
                                                  attribute == Attribute::ObjectId, attributeName(attribute));

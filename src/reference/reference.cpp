@@ -258,56 +258,39 @@ struct Footprint {
     glm::dvec3 dx{0.0}, dy{0.0};
 };
 
-struct DecalSample {
-    glm::dvec4 colour{0.0};  // premultiplied, alpha scaled by falloff and fades
+// A decal at one world point: the kind's falloff and fades, and where its textures are looked up
+// (docs/conventions.md "Decals").
+struct DecalHit {
+    double fade = 0.0;  // 0 = outside or faded out
     bool ambiguous = false;
+    glm::dvec3 local{0.0}, local_dx{0.0}, local_dy{0.0};  // the point and its footprint in decal space
+    bool footprint = false;
+    CubeLookup cube;
+    double direction_slack = 0.0;    // cube: rounding of the direction
+    glm::dvec3 facing{0.0};          // world direction a receiving surface faces
+    glm::dvec3 right{0.0}, up{0.0};  // world directions of growing s and falling t
 };
 
-// One decal at world point P: the conventions of docs/conventions.md written out in double.
-DecalSample sampleDecal(const Decal& decal, const glm::dmat4& world_to_local, const Texture2D* texture,
-                        const std::vector<Texture2D>* chain, const glm::dvec3& P, const std::optional<glm::dvec3>& normal,
-                        const Footprint& footprint, double slack) {
-    DecalSample out;
+DecalHit hitDecal(const Decal& decal, const glm::dmat4& world_to_local, const glm::dvec3& P,
+                  const std::optional<glm::dvec3>& normal, const Footprint& footprint, double slack) {
+    DecalHit out;
     const glm::dvec3 l(world_to_local * glm::dvec4(P, 1.0));
-    const glm::dvec3 lx(world_to_local * glm::dvec4(footprint.dx, 1.0)), ly(world_to_local * glm::dvec4(footprint.dy, 1.0));
-    // A 2D lookup through `st_of` (local point -> s, t); mip level from the footprint's mapping.
-    auto lookup2d = [&](auto st_of) {
-        const glm::dvec2 st = st_of(l);
-        if (decal.filter != TextureFilter::Mip) return sampleTexture(*texture, st.x, st.y, decal.filter);
-        const double lod = footprint.valid ? levelOfDetail(st, st_of(lx), st_of(ly), *texture) : 1e9;
-        return sampleMip(*chain, st.x, st.y, 0, lod);
-    };
+    out.local = l;
+    out.footprint = footprint.valid;
+    out.local_dx = glm::dvec3(world_to_local * glm::dvec4(footprint.dx, 1.0));
+    out.local_dy = glm::dvec3(world_to_local * glm::dvec4(footprint.dy, 1.0));
+    const glm::dmat3 axes(decal.world_matrix);
+    out.right = axes[0];
+    out.up = axes[1];
     double fade = 1.0;
-    auto nearEdge = [&](double coord, int size) {
-        const double x = coord * size;
-        return decal.filter == TextureFilter::Nearest && std::abs(x - std::round(x)) <= slack * size;
-    };
-    auto angleFade = [&](const glm::dvec3& facing) {
-        if (!normal || decal.angle_fade_deg[1] <= 0.0) return 1.0;
-        const double c = glm::dot(*normal, facing);
-        if (std::abs(c) <= 1e-4) out.ambiguous = true;  // the back-face cut is a step
-        if (c <= 0.0) return 0.0;
-        const double angle = std::acos(std::min(c, 1.0));
-        return rampDown(angle, glm::radians(decal.angle_fade_deg[0]), glm::radians(decal.angle_fade_deg[1]));
-    };
     switch (decal.kind) {
         case DecalKind::Box:
         case DecalKind::Volume: {
             const double extent = std::max({std::abs(l.x), std::abs(l.y), std::abs(l.z)});
             out.ambiguous = std::abs(extent - 0.5) <= slack;
-            if (extent > 0.5 || !texture) return out;
+            if (extent > 0.5) return out;
             if (decal.axis_fade > 0.0) fade *= std::clamp((0.5 - std::abs(l.z)) / (0.5 * decal.axis_fade), 0.0, 1.0);
-            fade *= angleFade(glm::normalize(glm::dvec3(decal.world_matrix[2])));
-            const double s = l.x + 0.5, t = 0.5 - l.y, r = l.z + 0.5;
-            out.ambiguous |= nearEdge(s, texture->width) || nearEdge(t, texture->height);
-            if (decal.kind == DecalKind::Box) {
-                out.colour = lookup2d([](const glm::dvec3& v) { return glm::dvec2(v.x + 0.5, 0.5 - v.y); });
-            } else {
-                out.ambiguous |= nearEdge(r, texture->depth);
-                // volumes have no mip chain of their own: "mip" samples level 0 trilinearly
-                out.colour = sampleVolume(*texture, s, t, r,
-                                          decal.filter == TextureFilter::Nearest ? TextureFilter::Nearest : TextureFilter::Linear);
-            }
+            out.facing = glm::normalize(glm::dvec3(decal.world_matrix[2]));
             break;
         }
         case DecalKind::Frustum: {
@@ -316,54 +299,92 @@ DecalSample sampleDecal(const Decal& decal, const glm::dmat4& world_to_local, co
             const double edge_slack = 2.0 * slack;  // both sides of each comparison carry rounding
             out.ambiguous = std::abs(dist - decal.near) <= edge_slack || std::abs(dist - decal.far) <= edge_slack ||
                             std::abs(std::abs(l.x) - half_w) <= edge_slack || std::abs(std::abs(l.y) - half_h) <= edge_slack;
-            if (!(dist >= decal.near && dist <= decal.far && std::abs(l.x) <= half_w && std::abs(l.y) <= half_h) || !texture)
-                return out;
+            if (!(dist >= decal.near && dist <= decal.far && std::abs(l.x) <= half_w && std::abs(l.y) <= half_h)) return out;
             if (decal.distance_fade[1] > 0.0) fade *= rampDown(dist, decal.distance_fade[0], decal.distance_fade[1]);
-            fade *= angleFade(glm::normalize(glm::dvec3(decal.world_matrix[3]) - P));
-            const double s = 0.5 + l.x / (2.0 * half_w), t = 0.5 - l.y / (2.0 * half_h);
-            out.ambiguous |= nearEdge(s, texture->width) || nearEdge(t, texture->height);
-            const double tan_half = std::tan(glm::radians(decal.fov_y_deg) / 2.0), aspect = decal.aspect;
-            out.colour = lookup2d([&](const glm::dvec3& v) {
-                const double hh = -v.z * tan_half;
-                return glm::dvec2(0.5 + v.x / (2.0 * hh * aspect), 0.5 - v.y / (2.0 * hh));
-            });
+            out.facing = glm::normalize(glm::dvec3(decal.world_matrix[3]) - P);
             break;
         }
         case DecalKind::Cube: {
             const double r = glm::length(l);
             out.ambiguous = std::abs(r - 0.5) <= slack;
-            if (r > 0.5 || !texture || r == 0.0) return out;
+            if (r > 0.5 || r == 0.0) return out;
             fade *= std::clamp(1.0 - r / 0.5, 0.0, 1.0);
-            fade *= angleFade(glm::normalize(glm::dvec3(decal.world_matrix[3]) - P));
+            out.facing = glm::normalize(glm::dvec3(decal.world_matrix[3]) - P);
             // the direction's rounding error grows as the point nears the centre
-            const double direction_slack = slack / r;
+            out.direction_slack = slack / r;
             const glm::dvec3 a = glm::abs(l / r);
             const double hi = std::max({a.x, a.y, a.z});
             const double mid = a.x + a.y + a.z - hi - std::min({a.x, a.y, a.z});
-            out.ambiguous |= hi - mid <= direction_slack;  // face choice
-            const CubeLookup c = cubeLookup(l / r);
-            if (decal.filter == TextureFilter::Nearest)
-                for (const auto& [coord, size] : {std::pair{c.s, texture->width}, std::pair{c.t, texture->height}})
-                    out.ambiguous |= std::abs(coord * size - std::round(coord * size)) <= direction_slack * size;
-            if (decal.filter != TextureFilter::Mip) {
-                out.colour = sampleCube(*texture, l / r, decal.filter);
-            } else {
-                // the footprint's directions measured on this pixel's face, even past its edge
-                auto on_face = [&](const glm::dvec3& v) {
-                    const double ma[6] = {v.x, -v.x, v.y, -v.y, v.z, -v.z};
-                    const double sc[6] = {-v.z, v.z, v.x, v.x, v.x, -v.x};
-                    const double tc[6] = {-v.y, -v.y, v.z, -v.z, -v.y, -v.y};
-                    return glm::dvec2(0.5 * (sc[c.face] / ma[c.face] + 1.0), 0.5 * (tc[c.face] / ma[c.face] + 1.0));
-                };
-                const double lod =
-                    footprint.valid ? levelOfDetail(glm::dvec2(c.s, c.t), on_face(lx), on_face(ly), *texture) : 1e9;
-                out.colour = sampleMip(*chain, c.s, c.t, c.face, lod);
-            }
+            out.ambiguous |= hi - mid <= out.direction_slack;  // face choice
+            out.cube = cubeLookup(l / r);
+            // the face image's right and up in local space (faces are seen from inside: mirrored)
+            const glm::dvec3 face_right[6] = {{0, 0, -1}, {0, 0, 1}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}, {-1, 0, 0}};
+            const glm::dvec3 face_up[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
+            out.right = axes * face_right[out.cube.face];
+            out.up = axes * face_up[out.cube.face];
             break;
         }
     }
-    out.colour *= fade;
+    if (normal && decal.angle_fade_deg[1] > 0.0) {
+        const double cosine = glm::dot(*normal, out.facing);
+        if (std::abs(cosine) <= 1e-4) out.ambiguous = true;  // the back-face cut is a step
+        fade *= cosine <= 0.0 ? 0.0
+                              : rampDown(std::acos(std::min(cosine, 1.0)), glm::radians(decal.angle_fade_deg[0]),
+                                         glm::radians(decal.angle_fade_deg[1]));
+    }
+    out.fade = fade;
     return out;
+}
+
+// A texture of the decal's set at the hit, with the decal's filter (premultiplied RGBA); sets
+// `ambiguous` when a nearest lookup lies within rounding of a texel edge.
+glm::dvec4 hitTexel(const DecalHit& hit, const Decal& decal, const Texture2D& t, const std::vector<Texture2D>& chain,
+                    double slack, bool& ambiguous) {
+    auto nearEdge = [&](double coord, int size, double within) {
+        const double x = coord * size;
+        return decal.filter == TextureFilter::Nearest && std::abs(x - std::round(x)) <= within * size;
+    };
+    const glm::dvec3& l = hit.local;
+    // A 2D lookup through `st_of` (local point -> s, t); mip level from the footprint's mapping.
+    auto lookup2d = [&](auto st_of) {
+        const glm::dvec2 st = st_of(l);
+        ambiguous |= nearEdge(st.x, t.width, slack) || nearEdge(st.y, t.height, slack);
+        if (decal.filter != TextureFilter::Mip) return sampleTexture(t, st.x, st.y, decal.filter);
+        const double lod = hit.footprint ? levelOfDetail(st, st_of(hit.local_dx), st_of(hit.local_dy), t) : 1e9;
+        return sampleMip(chain, st.x, st.y, 0, lod);
+    };
+    switch (decal.kind) {
+        case DecalKind::Box: return lookup2d([](const glm::dvec3& v) { return glm::dvec2(v.x + 0.5, 0.5 - v.y); });
+        case DecalKind::Volume: {
+            const double s = l.x + 0.5, tc = 0.5 - l.y, r = l.z + 0.5;
+            ambiguous |= nearEdge(s, t.width, slack) || nearEdge(tc, t.height, slack) || nearEdge(r, t.depth, slack);
+            // volumes have no mip chain of their own: "mip" samples level 0 trilinearly
+            return sampleVolume(t, s, tc, r, decal.filter == TextureFilter::Nearest ? TextureFilter::Nearest : TextureFilter::Linear);
+        }
+        case DecalKind::Frustum: {
+            const double tan_half = std::tan(glm::radians(decal.fov_y_deg) / 2.0), aspect = decal.aspect;
+            return lookup2d([&](const glm::dvec3& v) {
+                const double hh = -v.z * tan_half;
+                return glm::dvec2(0.5 + v.x / (2.0 * hh * aspect), 0.5 - v.y / (2.0 * hh));
+            });
+        }
+        case DecalKind::Cube: {
+            const CubeLookup& c = hit.cube;
+            ambiguous |= nearEdge(c.s, t.width, hit.direction_slack) || nearEdge(c.t, t.height, hit.direction_slack);
+            if (decal.filter != TextureFilter::Mip) return sampleCube(t, l / glm::length(l), decal.filter);
+            // the footprint's directions measured on this pixel's face, even past its edge
+            auto on_face = [&](const glm::dvec3& v) {
+                const double ma[6] = {v.x, -v.x, v.y, -v.y, v.z, -v.z};
+                const double sc[6] = {-v.z, v.z, v.x, v.x, v.x, -v.x};
+                const double tc[6] = {-v.y, -v.y, v.z, -v.z, -v.y, -v.y};
+                return glm::dvec2(0.5 * (sc[c.face] / ma[c.face] + 1.0), 0.5 * (tc[c.face] / ma[c.face] + 1.0));
+            };
+            const double lod =
+                hit.footprint ? levelOfDetail(glm::dvec2(c.s, c.t), on_face(hit.local_dx), on_face(hit.local_dy), t) : 1e9;
+            return sampleMip(chain, c.s, c.t, c.face, lod);
+        }
+    }
+    return glm::dvec4(0.0);
 }
 
 }  // namespace
@@ -393,9 +414,34 @@ Footprint pixelFootprint(const GBuffer& f, const Camera& camera, const glm::dmat
 
 }  // namespace
 
+namespace {
+
+// The material planes a decal may change, as reference::shade works on them.
+constexpr Attribute kTargetAttributes[kDecalTargets] = {Attribute::Albedo,   Attribute::Normal,
+                                                        Attribute::Roughness, Attribute::Metallic,
+                                                        Attribute::AmbientOcclusion, Attribute::Emission};
+
+// The file's normal as a world-space unit vector (docs/conventions.md "Normals").
+glm::dvec3 decodedNormal(const GBuffer& f, const Camera& camera, std::size_t i) {
+    const Plane& plane = f.planes.at(Attribute::Normal);
+    glm::dvec3 n(plane.at(i, 0), plane.at(i, 1), plane.at(i, 2));
+    if (f.normal_encoding.packed) n = 2.0 * n - 1.0;
+    if (f.normal_encoding.space == NormalSpace::Camera) n = glm::transpose(glm::dmat3(camera.world_to_camera)) * n;
+    return glm::normalize(n);
+}
+
+glm::dvec3 encodedNormal(const GBuffer& f, const Camera& camera, glm::dvec3 world) {
+    if (f.normal_encoding.space == NormalSpace::Camera)
+        world = glm::normalize(glm::inverse(glm::transpose(glm::dmat3(camera.world_to_camera))) * world);
+    return f.normal_encoding.packed ? world * 0.5 + 0.5 : world;
+}
+
+}  // namespace
+
 ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& scene, double margin) {
     ShadeResult result;
-    result.albedo = frame.planes.at(Attribute::Albedo);
+    for (Attribute a : kTargetAttributes)
+        if (frame.has(a)) result.planes[a] = frame.planes.at(a);
     result.ambiguous.assign(frame.pixelCount(), 0);
     std::vector<glm::dmat4> world_to_local;
     std::vector<double> scale;  // how far rounding can move a local coordinate, per unit of |P|
@@ -423,35 +469,51 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
             std::optional<glm::dvec3> normal;
             bool normal_tie = false;
             if (has_normal) {
-                const Plane& n = frame.planes.at(Attribute::Normal);
-                normal = glm::normalize(glm::dvec3(n.at(i, 0), n.at(i, 1), n.at(i, 2)));
+                normal = decodedNormal(frame, camera, i);
             } else if (angle_fades) {
                 const glm::dvec3 n_cam = normalFromDepth(frame, camera, x, y, *cameraPoint(frame, camera, x, y), normal_tie);
                 normal = glm::normalize(glm::dvec3(camera_to_world * glm::dvec4(n_cam, 0.0)));
             }
             Footprint footprint;
             if (normal) footprint = pixelFootprint(frame, camera, inverse_projection, x, y, *p, *normal);
-            glm::dvec3 albedo(result.albedo.at(i, 0), result.albedo.at(i, 1), result.albedo.at(i, 2));
+            Surface surface = surfaceAt(result.planes, i);
+            if (normal) surface.normal = *normal;
             for (std::size_t k = 0; k < scene.decals.size(); ++k) {
                 const Decal& decal = scene.decals[k];
                 // the kernels work in camera space: their error grows with the distance to the camera
                 const double slack = margin * scale[k] * (1.0 + glm::length(*p - camera_position));
-                const Texture2D* texture =
-                    decal.albedo_texture >= 0 ? &scene.textures[std::size_t(decal.albedo_texture)] : nullptr;
-                const std::vector<Texture2D>* chain =
-                    decal.albedo_texture >= 0 ? &chains[std::size_t(decal.albedo_texture)] : nullptr;
-                const DecalSample sample = sampleDecal(decal, world_to_local[k], texture, chain, *p, normal, footprint, slack);
-                if (sample.ambiguous) result.ambiguous[i] = 1;
-                if (normal_tie && decal.angle_fade_deg[1] > 0.0 && sample.colour.a > 0.0) result.ambiguous[i] = 1;
-                if (!(sample.colour.a > 0.0)) continue;
+                const DecalHit hit = hitDecal(decal, world_to_local[k], *p, normal, footprint, slack);
+                bool ambiguous = hit.ambiguous;
+                if (!(hit.fade > 0.0)) {
+                    if (ambiguous) result.ambiguous[i] = 1;
+                    continue;
+                }
+                auto texel = [&](int texture) {
+                    if (texture < 0) return std::optional<glm::dvec4>();
+                    return std::optional<glm::dvec4>(hitTexel(hit, decal, scene.textures[std::size_t(texture)],
+                                                              chains[std::size_t(texture)], slack, ambiguous));
+                };
+                DecalValues values;
+                values.albedo = texel(decal.albedo_texture);
+                values.normal = texel(decal.normal_texture);
+                values.orm = texel(decal.orm_texture);
+                values.emission = texel(decal.emission_texture);
+                values.facing = hit.facing;
+                values.right = hit.right;
+                values.up = hit.up;
                 double weight = decal.opacity;
                 if (decal.mask >= 0) weight *= frame.mask_weights[std::size_t(decal.mask)].at(i, 0);
-                const double f = std::clamp(sample.colour.a * weight, 0.0, 1.0);
-                // straight colour is colour.rgb / alpha; blending by f = alpha * weight
-                albedo = albedo * (1.0 - f) + glm::dvec3(sample.colour) * weight;
+                const bool changed = applyDecal(decal, values, hit.fade * weight, normal.value_or(glm::dvec3(0.0)),
+                                                [&](DecalTarget t) { return frame.has(kTargetAttributes[int(t)]); }, surface);
+                if (ambiguous || (normal_tie && decal.angle_fade_deg[1] > 0.0 && changed)) result.ambiguous[i] = 1;
             }
-            for (int c = 0; c < 3; ++c) result.albedo.at(i, c) = float(albedo[c]);
+            storeSurface(surface, i, result.planes);
+            if (surface.normal_changed && has_normal) {
+                const glm::dvec3 n = encodedNormal(frame, camera, surface.normal);
+                for (int c = 0; c < 3; ++c) result.planes.at(Attribute::Normal).at(i, c) = float(n[c]);
+            }
         }
+    result.albedo = result.planes.at(Attribute::Albedo);
     return result;
 }
 
