@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -232,6 +233,76 @@ TEST(SceneLoad, TextureAlphaModeIsPassedOn) {
     EXPECT_FLOAT_EQ(s.textures[size_t(s.decals[1].albedo_texture)].texels[0].r, 0.5f);
 }
 
+// A 1x1 RGBA8 PNG with the given bytes.
+void writePngRgba(const std::string& path, std::array<std::uint8_t, 4> px) {
+    fs::create_directories(fs::path(path).parent_path());
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(path, OIIO::ImageSpec(1, 1, 4, OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
+    ASSERT_TRUE(out->close());
+}
+
+TEST(SceneLoad, TextureSetMapsAreLoadedAsDataOrColour) {
+    ScratchDir dir;
+    writePngRgba(dir.file("a.png"), {128, 128, 128, 255});
+    writePngRgba(dir.file("n.png"), {128, 64, 255, 255});
+    writePngRgba(dir.file("orm.png"), {255, 51, 0, 255});
+    writePngRgba(dir.file("e.png"), {128, 0, 0, 255});
+    const std::string path = writeScene(dir, R"({"textures": {
+        "set": {"albedo": "a.png", "normal": "n.png", "orm": "orm.png", "emission": "e.png"},
+        "dx": {"normal": "n.png", "normal_y": "down"}},
+        "decals": [{"texture": "set", "scale": 1}, {"texture": "dx", "scale": 1}]})");
+    const DecalScene s = loadScene(path);
+    const Decal& d = s.decals[0];
+    ASSERT_GE(d.normal_texture, 0);
+    ASSERT_GE(d.orm_texture, 0);
+    ASSERT_GE(d.emission_texture, 0);
+    auto texel = [&](int index) { return s.textures[std::size_t(index)].texels[0]; };
+    EXPECT_NEAR(texel(d.albedo_texture).r, srgbToLinear(128.0f / 255.0f), 1e-6);  // colour: sRGB decoded
+    EXPECT_NEAR(texel(d.emission_texture).r, srgbToLinear(128.0f / 255.0f), 1e-6);
+    EXPECT_NEAR(texel(d.normal_texture).g, 64.0f / 255.0f, 1e-6);  // data: as stored
+    EXPECT_NEAR(texel(d.orm_texture).g, 51.0f / 255.0f, 1e-6);
+    // the same file with +Y down is another texture, its green flipped
+    const Decal& dx = s.decals[1];
+    EXPECT_EQ(dx.albedo_texture, -1);
+    ASSERT_NE(dx.normal_texture, d.normal_texture);
+    EXPECT_NEAR(texel(dx.normal_texture).g, 1.0f - 64.0f / 255.0f, 1e-6);
+    EXPECT_NEAR(texel(dx.normal_texture).r, 128.0f / 255.0f, 1e-6);
+}
+
+TEST(SceneLoad, AffectsSetsFactorsOpsAndValues) {
+    SceneFixture f;
+    const DecalScene s = loadScene(f.scene(R"([
+        {"texture": "t", "scale": 1},
+        {"texture": "t", "scale": 1, "affects": {"albedo": 0.5, "roughness": {"factor": 2, "op": "add", "value": 0.25},
+                                                 "emission": {"value": [1, 2, 3]},
+                                                 "normal": {"mode": "whiteout", "strength": 1.5, "factor": 0.75}}},
+        {"scale": 1, "affects": {"metallic": {"value": 1, "op": "replace"}}}])"));
+    const Decal& plain = s.decals[0];
+    EXPECT_EQ(plain.effects, defaultTargetEffects());  // no "affects": every map of the set, defaults
+    EXPECT_EQ(plain.effect(DecalTarget::AmbientOcclusion).op, BlendOp::Multiply);
+    EXPECT_EQ(plain.effect(DecalTarget::Emission).op, BlendOp::Add);
+    const Decal& d = s.decals[1];
+    EXPECT_FLOAT_EQ(d.effect(DecalTarget::Albedo).factor, 0.5f);
+    EXPECT_EQ(d.effect(DecalTarget::Albedo).op, BlendOp::Over);
+    EXPECT_FLOAT_EQ(d.effect(DecalTarget::Roughness).factor, 2.0f);
+    EXPECT_EQ(d.effect(DecalTarget::Roughness).op, BlendOp::Add);
+    EXPECT_FLOAT_EQ(d.effect(DecalTarget::Roughness).value->r, 0.25f);
+    EXPECT_EQ(*d.effect(DecalTarget::Emission).value, glm::vec3(1, 2, 3));
+    EXPECT_FLOAT_EQ(d.effect(DecalTarget::Normal).factor, 0.75f);
+    EXPECT_EQ(d.normal_blend, NormalBlend::Whiteout);
+    EXPECT_FLOAT_EQ(d.normal_strength, 1.5f);
+    EXPECT_EQ(d.effect(DecalTarget::Metallic).factor, 0.0f);  // not listed: left alone
+    EXPECT_EQ(d.effect(DecalTarget::AmbientOcclusion).factor, 0.0f);
+    EXPECT_TRUE(decalAffects(d, DecalTarget::Roughness));  // a constant without a texture
+    EXPECT_FALSE(decalAffects(d, DecalTarget::Normal));    // no normal map in the set
+    const Decal& untextured = s.decals[2];
+    EXPECT_EQ(untextured.albedo_texture, -1);
+    EXPECT_TRUE(decalAffects(untextured, DecalTarget::Metallic));
+    EXPECT_EQ(untextured.effect(DecalTarget::Metallic).op, BlendOp::Replace);
+}
+
 TEST(SceneLoad, EmptyDecalListIsValid) {
     ScratchDir dir;
     const DecalScene s = loadScene(writeScene(dir, R"({"decals": []})"));
@@ -320,7 +391,7 @@ const ErrorCase kErrorCases[] = {
     {"DistanceFadeOnBox", D("{" T ", \"scale\": 1, \"fade\": {\"distance\": [1, 2]}}"),
      "decals[0].fade.distance: only frustum decals have a distance fade"},
     {"VolumeWithCubeTexture", D("{\"kind\": \"volume\", \"texture\": {\"cube\": \"x.png\"}, \"scale\": 1}"),
-     "decals[0].texture: a volume decal needs a volume texture"},
+     "decals[0].texture.cube: a volume decal needs a volume texture"},
     {"KindNotString", D("{\"kind\": 1}"), "decals[0].kind: expected a string"},
     {"UnknownKey", D("{" T ", \"scale\": 1, \"opactiy\": 1}"),
      "decals[0].opactiy: unknown key (did you mean 'opacity'?)"},
@@ -335,7 +406,26 @@ const ErrorCase kErrorCases[] = {
     {"PriorityFloat", D("{" T ", \"scale\": 1, \"priority\": 1.5}"), "decals[0].priority: expected an integer"},
     {"PriorityRange", D("{" T ", \"scale\": 1, \"priority\": 9999999999}"), "decals[0].priority: integer out of range"},
     {"NameType", D("{" T ", \"scale\": 1, \"name\": 3}"), "decals[0].name: expected a string"},
-    {"NoTexture", D("{\"scale\": 1}"), "decals[0]: missing 'texture' (a box decal needs an albedo texture)"},
+    {"NoTexture", D("{\"scale\": 1}"), "decals[0]: missing 'texture' (a decal needs a texture set, or constant values in 'affects')"},
+    {"AffectsNotObject", D("{" T ", \"scale\": 1, \"affects\": 1}"), "decals[0].affects: expected an object"},
+    {"AffectsUnknownAttribute", D("{" T ", \"scale\": 1, \"affects\": {\"albedo\": 1, \"glossiness\": 1}}"),
+     "decals[0].affects.glossiness: unknown attribute (supported: albedo, normal, roughness, metallic, ao, emission)"},
+    {"AffectsNegativeFactor", D("{" T ", \"scale\": 1, \"affects\": {\"roughness\": -0.5}}"),
+     "decals[0].affects.roughness: expected a factor >= 0"},
+    {"AffectsBadOp", D("{" T ", \"scale\": 1, \"affects\": {\"roughness\": {\"op\": \"screen\"}}}"),
+     "decals[0].affects.roughness.op: expected one of: over, multiply, add, replace"},
+    {"AffectsNormalOp", D("{" T ", \"scale\": 1, \"affects\": {\"normal\": {\"op\": \"add\"}}}"),
+     "decals[0].affects.normal.op: unknown key (normal takes factor, mode, strength)"},
+    {"AffectsNormalMode", D("{" T ", \"scale\": 1, \"affects\": {\"normal\": {\"mode\": \"blend\"}}}"),
+     "decals[0].affects.normal.mode: expected one of: rnm, udn, whiteout, replace"},
+    {"AffectsNormalStrength", D("{" T ", \"scale\": 1, \"affects\": {\"normal\": {\"strength\": -1}}}"),
+     "decals[0].affects.normal.strength: expected a number in [0, 100]"},
+    {"AffectsScalarValueRange", D("{" T ", \"scale\": 1, \"affects\": {\"metallic\": {\"value\": 2}}}"),
+     "decals[0].affects.metallic.value: expected a number in [0, 1]"},
+    {"AffectsColourValueShape", D("{" T ", \"scale\": 1, \"affects\": {\"albedo\": {\"value\": [1, 0]}}}"),
+     "decals[0].affects.albedo.value: expected [r, g, b] (linear) or one number"},
+    {"AffectsOnlyFactorsNoTexture", D("{\"scale\": 1, \"affects\": {\"roughness\": 0.5}}"),
+     "decals[0]: missing 'texture'"},
     {"UnknownTextureName", D("{\"texture\": \"scorch\", \"scale\": 1}"), "decals[0].texture: unknown texture 'scorch'"},
     {"TextureType", D("{\"texture\": 5, \"scale\": 1}"), "decals[0].texture: expected a texture name"},
     {"NoPlacement", D("{" T "}"), "decals[0]: missing placement"},
@@ -379,10 +469,16 @@ const ErrorCase kErrorCases[] = {
     {"TextureEntryType", "{\"textures\": {\"a\": 3}, \"decals\": []}",
      "textures.a: expected an image path or an object"},
     {"TextureEntryNoAlbedo", "{\"textures\": {\"a\": {\"alpha\": \"straight\"}}, \"decals\": []}",
-     "textures.a: missing 'albedo'"},
-    {"TextureEntryFutureSlot",
-     "{\"textures\": {\"a\": {\"albedo\": \"t.png\", \"normal\": \"n.png\"}}, \"decals\": []}",
-     "textures.a.normal: not supported yet (supported: albedo)"},
+     "textures.a: expected at least one map: albedo (or volume, cube, cube_faces), normal, orm, emission"},
+    {"TextureEntryRoughnessMap",
+     "{\"textures\": {\"a\": {\"albedo\": \"t.png\", \"roughness\": \"r.png\"}}, \"decals\": []}",
+     "textures.a.roughness: not a map of its own: pack occlusion, roughness and metallic into 'orm' (R, G, B)"},
+    {"TextureEntryNormalYWithoutNormal",
+     "{\"textures\": {\"a\": {\"albedo\": \"t.png\", \"normal_y\": \"down\"}}, \"decals\": []}",
+     "textures.a.normal_y: there is no 'normal' map to flip"},
+    {"TextureEntryNormalYValue",
+     "{\"textures\": {\"a\": {\"normal\": \"n.png\", \"normal_y\": \"left\"}}, \"decals\": []}",
+     "textures.a.normal_y: expected 'up' (OpenGL) or 'down' (DirectX)"},
     {"TextureEntryUnknownKey", "{\"textures\": {\"a\": {\"albedo\": \"t.png\", \"albdo\": \"n.png\"}}, \"decals\": []}",
      "textures.a.albdo: unknown key (did you mean 'albedo'?)"},
     {"TextureEntryBadAlpha", "{\"textures\": {\"a\": {\"albedo\": \"t.png\", \"alpha\": \"pre\"}}, \"decals\": []}",

@@ -7,11 +7,16 @@
 namespace decalcomp {
 
 enum class AlphaMode { Auto, Straight, Premultiplied };
+// Colour images (albedo, emission) are sRGB-encoded when stored as integers; data images (normal
+// maps, ORM) hold their values as they are.
+enum class TextureContent { Colour, Data };
 
 // Loads an image as linear, premultiplied RGBA float. 8/16-bit integer files (PNG, TGA...) are
 // sRGB-encoded with straight alpha; float files (EXR) are linear and premultiplied unless
-// `alpha` says Straight. Grey and RGB images get alpha 1. Throws Error(Input) naming the file.
-Texture2D loadTexture2D(const std::string& path, AlphaMode alpha = AlphaMode::Auto);
+// `alpha` says Straight. Grey and RGB images get alpha 1. Data content skips the sRGB decode.
+// Throws Error(Input) naming the file.
+Texture2D loadTexture2D(const std::string& path, AlphaMode alpha = AlphaMode::Auto,
+                        TextureContent content = TextureContent::Colour);
 
 float srgbToLinear(float encoded);
 float linearToSrgb(float linear);

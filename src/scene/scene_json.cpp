@@ -22,6 +22,7 @@
 #include "scene/animation_json.hpp"
 #include "scene/kind_json.hpp"
 #include "scene/mask_json.hpp"
+#include "scene/material_json.hpp"
 #include "scene/placement.hpp"
 
 namespace decalcomp {
@@ -37,7 +38,8 @@ const std::vector<std::string> kDecalKeys = {
     "origin", "target", "up",      "size",   "opacity",      "filter",    "priority",
     "frames", "fade_in", "fade_out", "keyframes", "keyframe_interpolation",  // animation_json.cpp
     "mask",                                                                    // mask_json.cpp
-    "fov_y_deg", "aspect", "near", "far", "fade"};                             // kind_json.cpp
+    "fov_y_deg", "aspect", "near", "far", "fade",                              // kind_json.cpp
+    "affects"};                                                                // material_json.cpp
 const std::vector<std::string> kDecalNotes = {"description", "blender_object"};
 // Written by the neutral Blender export next to world_matrix; they restate it.
 const std::vector<std::string> kWorldMatrixNotes = {"location", "scale", "rotation_quaternion_wxyz",
@@ -46,8 +48,11 @@ const std::vector<std::string> kTopLevelKeys = {"format", "description", "textur
                                                 "decals", "filter",      "interpolation"};
 const std::vector<std::string> kTrsKeys = {"translate", "rotate_deg", "quaternion_wxyz", "scale"};
 const std::vector<std::string> kLookAtKeys = {"origin", "target", "up", "size"};
-// Texture slots the format reserves for later kinds and attributes.
-const std::vector<std::string> kFutureTextureSlots = {"normal", "orm", "roughness", "emission"};
+// Keys of a texture-set object: the albedo under one of its layout names, the other maps, options.
+const std::vector<std::string> kTextureSetKeys = {"albedo", "volume",   "cube",  "cube_faces", "normal",
+                                                  "orm",    "emission", "alpha", "normal_y"};
+// Single-channel maps users may expect; the format packs them into "orm".
+const std::vector<std::string> kPackedIntoOrm = {"roughness", "metallic", "occlusion", "ao"};
 
 bool contains(const std::vector<std::string>& list, const std::string& s) {
     return std::find(list.begin(), list.end(), s) != list.end();
@@ -117,23 +122,36 @@ std::string parseReason(std::string reason) {
 
 // A texture as a scene names it, before its file is decoded.
 struct TextureRequest {
-    std::string albedo;    // as written in the file
+    std::string file;      // as written in the scene file
     std::string jsonPath;  // where it was written, for messages
     AlphaMode alpha = AlphaMode::Auto;
     scene_detail::TextureLayout layout = scene_detail::TextureLayout::Image;
     std::vector<std::string> faces;  // cube faces +X,-X,+Y,-Y,+Z,-Z (layout CubeFaces)
+    TextureContent content = TextureContent::Colour;
+    bool flip_green = false;  // a normal map with +Y down (DirectX convention)
+};
+
+// A DirectX normal map (+Y down) as an OpenGL one: straight green g -> 1 - g, premultiplied.
+void flipGreen(Texture2D& texture) {
+    for (glm::vec4& t : texture.texels) t.g = t.a - t.g;
+}
+
+// A decal's texture set (seed 002): any map may be absent.
+struct TextureSetRequest {
+    std::optional<TextureRequest> albedo, normal, orm, emission;
+    bool empty() const { return !albedo && !normal && !orm && !emission; }
 };
 
 TextureRequest imageRequest(std::string file, std::string json_path) {
     TextureRequest request;
-    request.albedo = std::move(file);
+    request.file = std::move(file);
     request.jsonPath = std::move(json_path);
     return request;
 }
 
 struct ParsedDecal {
     Decal decal;
-    TextureRequest texture;
+    TextureSetRequest texture;
     int priority = 0;
 };
 
@@ -158,7 +176,13 @@ public:
 
         DecalScene scene;
         scene.masks = masks_;
-        for (ParsedDecal& p : parsed) p.decal.albedo_texture = textureIndex(p.texture, scene);
+        for (ParsedDecal& p : parsed) {
+            auto index = [&](const std::optional<TextureRequest>& r) { return r ? textureIndex(*r, scene) : -1; };
+            p.decal.albedo_texture = index(p.texture.albedo);
+            p.decal.normal_texture = index(p.texture.normal);
+            p.decal.orm_texture = index(p.texture.orm);
+            p.decal.emission_texture = index(p.texture.emission);
+        }
         // Lower priority blends first; equal priorities keep file order (stable).
         std::stable_sort(parsed.begin(), parsed.end(),
                          [](const ParsedDecal& a, const ParsedDecal& b) { return a.priority < b.priority; });
@@ -169,8 +193,9 @@ public:
 private:
     std::string file_;
     fs::path dir_;
-    std::map<std::string, TextureRequest> textureTable_;
-    std::map<std::tuple<std::string, AlphaMode, scene_detail::TextureLayout>, int> loaded_;  // -> texture index
+    std::map<std::string, TextureSetRequest> textureTable_;
+    // decoded textures by (files, alpha, layout, content, flip) -> texture index
+    std::map<std::tuple<std::string, AlphaMode, scene_detail::TextureLayout, TextureContent, bool>, int> loaded_;
     mutable std::vector<DecalMask> masks_;  // distinct masks, filled while parsing decals
 
     [[noreturn]] void fail(const std::string& path, const std::string& what) const {
@@ -259,37 +284,55 @@ private:
     }
 
     // "file.png" is shorthand for {"albedo": "file.png"}.
-    TextureRequest parseTexture(const json& v, const std::string& path) const {
-        if (v.is_string()) return imageRequest(nonEmptyPath(v, path), path);
+    TextureSetRequest parseTexture(const json& v, const std::string& path) const {
+        TextureSetRequest set;
+        if (v.is_string()) {
+            set.albedo = imageRequest(nonEmptyPath(v, path), path);
+            return set;
+        }
         if (!v.is_object()) fail(path, "expected an image path or an object like {\"albedo\": \"file.png\"}");
-        TextureRequest request;
+        AlphaMode alpha = AlphaMode::Auto;
+        bool normal_y_down = false;
         for (const auto& [key, value] : v.items()) {
             const std::string child = keyPath(path, key);
             if (key == "albedo" || key == "volume" || key == "cube") {
-                if (!request.albedo.empty() || !request.faces.empty())
-                    fail(child, "give one of 'albedo', 'volume', 'cube', 'cube_faces'");
-                request.albedo = nonEmptyPath(value, child);
-                request.jsonPath = child;
-                request.layout = key == "volume" ? scene_detail::TextureLayout::VolumeStrip
-                                 : key == "cube" ? scene_detail::TextureLayout::CubeStrip
-                                                 : scene_detail::TextureLayout::Image;
+                if (set.albedo) fail(child, "give one of 'albedo', 'volume', 'cube', 'cube_faces'");
+                set.albedo = imageRequest(nonEmptyPath(value, child), child);
+                set.albedo->layout = key == "volume" ? scene_detail::TextureLayout::VolumeStrip
+                                     : key == "cube" ? scene_detail::TextureLayout::CubeStrip
+                                                     : scene_detail::TextureLayout::Image;
             } else if (key == "cube_faces") {
-                if (!request.albedo.empty()) fail(child, "give one of 'albedo', 'volume', 'cube', 'cube_faces'");
+                if (set.albedo) fail(child, "give one of 'albedo', 'volume', 'cube', 'cube_faces'");
                 if (!value.is_array() || value.size() != 6) fail(child, "expected 6 image paths (+X,-X,+Y,-Y,+Z,-Z)");
+                TextureRequest request;
                 for (size_t f = 0; f < 6; ++f) request.faces.push_back(nonEmptyPath(value[f], indexPath(child, f)));
-                request.albedo = request.faces[0];
+                request.file = request.faces[0];
                 request.jsonPath = child;
                 request.layout = scene_detail::TextureLayout::CubeFaces;
+                set.albedo = request;
+            } else if (key == "normal" || key == "orm" || key == "emission") {
+                // same layout as the albedo's kind (a strip for volumes and cubes); normal and ORM are data
+                TextureRequest request = imageRequest(nonEmptyPath(value, child), child);
+                if (key != "emission") request.content = TextureContent::Data;
+                (key == "normal" ? set.normal : key == "orm" ? set.orm : set.emission) = request;
             } else if (key == "alpha") {
-                request.alpha = parseAlphaMode(value, child);
-            } else if (contains(kFutureTextureSlots, key)) {
-                fail(child, "not supported yet (supported: albedo)");
+                alpha = parseAlphaMode(value, child);
+            } else if (key == "normal_y") {
+                const std::string y = string(value, child);
+                if (y != "up" && y != "down") fail(child, "expected 'up' (OpenGL) or 'down' (DirectX)");
+                normal_y_down = y == "down";
+            } else if (contains(kPackedIntoOrm, key)) {
+                fail(child, "not a map of its own: pack occlusion, roughness and metallic into 'orm' (R, G, B)");
             } else if (!isNoteKey(key)) {
-                fail(child, unknownKeyMessage(key, {"albedo", "volume", "cube", "cube_faces", "alpha"}));
+                fail(child, unknownKeyMessage(key, kTextureSetKeys));
             }
         }
-        if (request.albedo.empty()) fail(path, "missing 'albedo' (a box decal needs an albedo texture)");
-        return request;
+        if (set.empty()) fail(path, "expected at least one map: albedo (or volume, cube, cube_faces), normal, orm, emission");
+        if (normal_y_down && !set.normal) fail(keyPath(path, "normal_y"), "there is no 'normal' map to flip");
+        if (set.normal) set.normal->flip_green = normal_y_down;
+        for (auto* r : {&set.albedo, &set.normal, &set.orm, &set.emission})
+            if (*r) (*r)->alpha = alpha;
+        return set;
     }
 
     std::string nonEmptyPath(const json& v, const std::string& path) const {
@@ -318,13 +361,19 @@ private:
         ParsedDecal p;
         p.decal.kind = j.contains("kind") ? *scene_detail::kindFromName(j.at("kind").get<std::string>()) : DecalKind::Box;
         p.decal.name = j.contains("name") ? string(j.at("name"), path + ".name") : path;
-        p.texture = textureReference(j, path);
+        if (j.contains("texture")) p.texture = textureReference(j, path);
         if (!scene_detail::parseDecalAnimation(j, path, file_, [this](const json& v, const std::string& at) { return placement(v, at); }, p.decal))
             p.decal.world_matrix = scene_detail::isProjectorLookAt(j, p.decal.kind)
                                        ? scene_detail::projectorLookAt(j, path, file_)
                                        : placement(j, path);
         scene_detail::parseKindFields(j, path, file_, p.decal);
-        p.texture.layout = scene_detail::layoutForKind(p.decal.kind, p.texture.layout, path + ".texture", file_);
+        for (auto* r : {&p.texture.albedo, &p.texture.normal, &p.texture.orm, &p.texture.emission})
+            if (*r) (*r)->layout = scene_detail::layoutForKind(p.decal.kind, (*r)->layout, (*r)->jsonPath, file_);
+        if (j.contains("affects")) scene_detail::parseAffects(j.at("affects"), path + ".affects", file_, p.decal);
+        if (p.texture.empty() && !std::any_of(p.decal.effects.begin(), p.decal.effects.end(), [](const TargetEffect& e) {
+                return e.value.has_value() && e.factor > 0.0f;
+            }))
+            fail(path, "missing 'texture' (a decal needs a texture set, or constant values in 'affects')");
         if (j.contains("opacity")) p.decal.opacity = opacity(j.at("opacity"), path + ".opacity");
         p.decal.filter = j.contains("filter") ? parseFilter(j.at("filter"), path + ".filter") : defaultFilter;
         if (j.contains("priority")) p.priority = priority(j.at("priority"), path + ".priority");
@@ -343,15 +392,18 @@ private:
     }
 
     // Key of "textures" first; otherwise a string with '.' or '/' is an image path.
-    TextureRequest textureReference(const json& j, const std::string& path) const {
-        if (!j.contains("texture")) fail(path, "missing 'texture' (a box decal needs an albedo texture)");
+    TextureSetRequest textureReference(const json& j, const std::string& path) const {
         const json& t = j.at("texture");
         const std::string tpath = path + ".texture";
         if (t.is_object()) return parseTexture(t, tpath);
         if (!t.is_string()) fail(tpath, "expected a texture name, an image path or a texture object");
         const std::string name = t.get<std::string>();
         if (auto it = textureTable_.find(name); it != textureTable_.end()) return it->second;
-        if (name.find_first_of("./") != std::string::npos) return imageRequest(name, tpath);
+        if (name.find_first_of("./") != std::string::npos) {
+            TextureSetRequest set;
+            set.albedo = imageRequest(name, tpath);
+            return set;
+        }
         fail(tpath, fmt::format("unknown texture '{}' (not a key of 'textures' and not a file name)", name));
     }
 
@@ -469,14 +521,14 @@ private:
 
     // Same file with the same alpha mode -> one decoded texture shared by index.
     int textureIndex(const TextureRequest& request, DecalScene& scene) {
-        fs::path file(request.albedo);
+        fs::path file(request.file);
         if (file.is_relative()) file = dir_ / file;
         std::error_code ec;
         fs::path identity = fs::weakly_canonical(file, ec);
         if (ec) identity = file.lexically_normal();
         std::string files = identity.string();
         for (std::size_t f = 1; f < request.faces.size(); ++f) files += "|" + request.faces[f];  // a cube is all six
-        const auto key = std::make_tuple(files, request.alpha, request.layout);
+        const auto key = std::make_tuple(files, request.alpha, request.layout, request.content, request.flip_green);
         if (auto it = loaded_.find(key); it != loaded_.end()) return it->second;
         try {
             if (request.layout == scene_detail::TextureLayout::CubeFaces) {
@@ -484,12 +536,14 @@ private:
                 for (const std::string& face : request.faces) {
                     fs::path face_file(face);
                     if (face_file.is_relative()) face_file = dir_ / face_file;
-                    faces.push_back(loadTexture2D(face_file.string(), request.alpha));
+                    faces.push_back(loadTexture2D(face_file.string(), request.alpha, request.content));
                 }
                 scene.textures.push_back(cubeFromFaces(faces));
             } else {
-                scene.textures.push_back(scene_detail::arrangeTexture(loadTexture2D(file.string(), request.alpha), request.layout));
+                scene.textures.push_back(scene_detail::arrangeTexture(
+                    loadTexture2D(file.string(), request.alpha, request.content), request.layout));
             }
+            if (request.flip_green) flipGreen(scene.textures.back());
         } catch (const Error& e) {
             fail(request.jsonPath, e.what());
         }

@@ -102,12 +102,15 @@ void decodeTexels(const std::vector<T>& raw, int channels, const ChannelLayout& 
 }
 
 // Reads stored integers natively so the sRGB decode is a table lookup of the exact curve.
+// Data textures (normal maps, ORM) skip the sRGB curve: stored values are the data, normalised.
 template <typename T>
 void decodeIntegerNative(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
-                         const ChannelLayout& layout, bool premultiply, Texture2D& tex) {
+                         const ChannelLayout& layout, bool premultiply, TextureContent content, Texture2D& tex) {
     const std::vector<T> raw = readPixels<T>(in, spec, type, tex.source);
-    const std::vector<float> table = srgbTable<T>();
     const float maxValue = float(std::numeric_limits<T>::max());
+    std::vector<float> table = srgbTable<T>();
+    if (content == TextureContent::Data)
+        for (std::size_t v = 0; v < table.size(); ++v) table[v] = float(v) / maxValue;
     decodeTexels(
         raw, spec.nchannels, layout, premultiply, [&](T v) { return table[v]; },
         [&](T v) { return float(v) / maxValue; }, tex.texels);
@@ -125,7 +128,7 @@ void checkSpec(const OIIO::ImageSpec& spec, const std::string& path) {
 
 }  // namespace
 
-Texture2D loadTexture2D(const std::string& path, AlphaMode alpha) {
+Texture2D loadTexture2D(const std::string& path, AlphaMode alpha, TextureContent content) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))
         throw inputError(fmt::format("cannot open '{}': no such file", path));
@@ -148,12 +151,12 @@ Texture2D loadTexture2D(const std::string& path, AlphaMode alpha) {
     tex.texels.resize(size_t(spec.width) * size_t(spec.height));
 
     if (spec.format == OIIO::TypeDesc::UINT8) {
-        decodeIntegerNative<std::uint8_t>(*in, spec, OIIO::TypeDesc::UINT8, layout, premultiply, tex);
+        decodeIntegerNative<std::uint8_t>(*in, spec, OIIO::TypeDesc::UINT8, layout, premultiply, content, tex);
     } else if (spec.format == OIIO::TypeDesc::UINT16) {
-        decodeIntegerNative<std::uint16_t>(*in, spec, OIIO::TypeDesc::UINT16, layout, premultiply, tex);
+        decodeIntegerNative<std::uint16_t>(*in, spec, OIIO::TypeDesc::UINT16, layout, premultiply, content, tex);
     } else {
         // Other integer types arrive normalised to [0,1] and are still sRGB; float stays linear.
-        const bool srgb = isIntegerFormat(spec.format);
+        const bool srgb = isIntegerFormat(spec.format) && content == TextureContent::Colour;
         const std::vector<float> raw = readPixels<float>(*in, spec, OIIO::TypeDesc::FLOAT, path);
         decodeTexels(
             raw, spec.nchannels, layout, premultiply, [&](float v) { return srgb ? srgbToLinear(v) : v; },
