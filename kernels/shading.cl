@@ -5,13 +5,15 @@
 #include "reconstruct.h"
 #include "texture_sample.h"
 #include "decal_kinds.h"
+#include "occlusion.h"
 
 __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t depth_image,
                        __read_only image2d_t position_image, __read_only image2d_t normal_image,
                        __read_only image2d_t albedo_in, __global float4* albedo_out,
                        __global const DcDecal* decals, __global const DcTexture* textures,
                        __global const float4* texels, __global const int* tile_offsets,
-                       __global const int* tile_decals, int binned, __global const float* mask_weights) {
+                       __global const int* tile_decals, int binned, __global const float* mask_weights,
+                       __global const uint* occlusion_maps) {
     const int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame->width || y >= frame->height) return;
     float4 albedo = read_imagef(albedo_in, dc_pixel_sampler, (int2)(x, y));
@@ -37,6 +39,8 @@ __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t de
         }
         for (int k = begin; k < end; ++k) {
             __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
+            /* blast occlusion: a surface nearer the origin hides this one from the blast */
+            if (d->occlusion_map >= 0 && !dc_blast_reaches(d, occlusion_maps, p, normal)) continue;
             const float4 colour =
                 dc_decal_colour(d, textures, texels, p, normal, frame->has_normal || frame->reconstruct_normals, p_dx,
                                 p_dy, footprint);

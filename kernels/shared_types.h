@@ -74,6 +74,11 @@ typedef struct {
     DC_FLOAT angle_fade[2];
     DC_FLOAT axis_fade;       /* box/volume: faded fraction of the half-depth at both z ends; 0 = off */
     DC_FLOAT distance_fade[2]; /* frustum: fade from distance [0] to [1]; off if [1] <= 0 */
+    /* blast occlusion (frustum, cube): first texel of the decal's map in the map buffer, -1 = off;
+     * the map is occlusion_width x occlusion_height per face (1 face frustum, 6 cube) */
+    DC_INT occlusion_map;
+    DC_INT occlusion_width, occlusion_height;
+    DC_FLOAT occlusion_bias; /* slope-scaled bias in texels */
     DC_INT pad0, pad1, pad2;
 } DcDecal;
 

@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "compositor/kernel_params.hpp"
+#include "compositor/occlusion_maps.hpp"
 #include "decalcomp/error.hpp"
 
 namespace decalcomp {
@@ -80,7 +81,7 @@ std::vector<float> packMaskWeights(const GBuffer& frame, std::size_t count) {
 }  // namespace
 
 struct Compositor::State {
-    cl::Kernel tile_bounds, decal_bounds, coarse_depth, coarse_mask, coarse_count, coarse_fill, bin_count, bin_fill, shade;
+    cl::Kernel tile_bounds, decal_bounds, coarse_depth, coarse_mask, coarse_count, coarse_fill, bin_count, bin_fill, shade, occlusion;
     cl::Buffer texture_table, texels;
     std::size_t mask_count = 0;
     std::vector<int> texture_entries;  // scene texture index -> texture table entry
@@ -104,6 +105,7 @@ Compositor::Compositor(ComputeDevice& device) : device_(device), state_(std::mak
         state_->bin_count = cl::Kernel(program, "dc_bin_count");
         state_->bin_fill = cl::Kernel(program, "dc_bin_fill");
         state_->shade = cl::Kernel(program, "dc_shade");
+        state_->occlusion = cl::Kernel(program, "dc_occlusion_build");
     } catch (const cl::Error& e) {
         throw deviceError(fmt::format("{}: {}: {}", device_.info().name, e.what(), clErrorName(e.err())));
     }
@@ -147,12 +149,15 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     State& s = *state_;
     cl::Context& context = device_.context();
     cl::CommandQueue& queue = device_.queue();
-    const auto decals = makeDecalParams(s.scene, camera, s.texture_entries);
+    auto decals = makeDecalParams(s.scene, camera, s.texture_entries);
+    const OcclusionLayout occlusion = layoutOcclusionMaps(s.scene.decals, decals);
     cl_types::DcFrame params = makeFrameParams(frame, camera, int(decals.size()));
-    // Normals are read only for angle fades and mip footprints: skip their upload otherwise.
-    const bool needs_normals = std::any_of(s.scene.decals.begin(), s.scene.decals.end(), [](const Decal& d) {
-        return d.angle_fade_deg[1] > 0.0 || d.filter == TextureFilter::Mip;
-    });
+    // Normals are read only for angle fades, mip footprints and occlusion slopes: skip their
+    // upload otherwise.
+    const bool needs_normals = !occlusion.occluders.empty() ||
+                               std::any_of(s.scene.decals.begin(), s.scene.decals.end(), [](const Decal& d) {
+                                   return d.angle_fade_deg[1] > 0.0 || d.filter == TextureFilter::Mip;
+                               });
     if (!needs_normals) params.has_normal = 0;
     params.reconstruct_normals = needs_normals && !params.has_normal ? 1 : 0;
     const std::size_t pixels = frame.pixelCount();
@@ -274,6 +279,11 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             s.has_binning = false;
         }
 
+        cl::Event e_occlusion;
+        const cl::Buffer occlusion_maps = buildOcclusionMaps(context, queue, s.occlusion, occlusion, frame_buffer, depth,
+                                                             position, decal_buffer, frame.width, frame.height,
+                                                             &e_occlusion);
+
         cl::Event e_shade;
         s.shade.setArg(0, frame_buffer);
         s.shade.setArg(1, depth);
@@ -288,11 +298,13 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         s.shade.setArg(10, s.tile_decals);
         s.shade.setArg(11, cl_int(options.binned && !decals.empty() ? 1 : 0));
         s.shade.setArg(12, mask_buffer);
+        s.shade.setArg(13, occlusion_maps);
         queue.enqueueNDRangeKernel(s.shade, cl::NullRange, cl::NDRange(std::size_t(frame.width), std::size_t(frame.height)),
                                    cl::NullRange, nullptr, &e_shade);
         std::vector<float> result(pixels * 4);
         queue.enqueueReadBuffer(albedo_out, CL_TRUE, 0, result.size() * sizeof(float), result.data());
         stats.shading_ms = eventMs(e_shade);
+        if (!occlusion.occluders.empty()) stats.occlusion_ms = eventMs(e_occlusion);
         for (std::size_t i = 0; i < pixels; ++i)
             for (int c = 0; c < albedo.components && c < 4; ++c) albedo.at(i, c) = result[i * 4 + c];
     } catch (const cl::Error& e) {

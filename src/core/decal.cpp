@@ -1,5 +1,6 @@
 #include "decalcomp/decal.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace decalcomp {
@@ -21,6 +22,15 @@ const char* textureFilterName(TextureFilter f) {
         case TextureFilter::Mip: return "mip";
     }
     return "?";
+}
+
+OcclusionMapSize occlusionMapSize(const Decal& decal) {
+    const int r = decal.occlusion.resolution;
+    if (decal.kind == DecalKind::Cube) return {r, r, 6};
+    // the frustum's far rectangle is aspect : 1; round the shorter side, keep at least one texel
+    const double a = decal.aspect;
+    const int shorter_w = std::max(1, int(std::lround(r * a))), shorter_h = std::max(1, int(std::lround(r / a)));
+    return a >= 1.0 ? OcclusionMapSize{r, shorter_h, 1} : OcclusionMapSize{shorter_w, r, 1};
 }
 
 bool isInvertibleDecalMatrix(const glm::dmat4& m) {
