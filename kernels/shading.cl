@@ -8,6 +8,7 @@
 #include "texture_sample.h"
 #include "decal_kinds.h"
 #include "materials.h"
+#include "occlusion.h"
 
 inline float3 dc_world_to_camera_vector(__constant const DcFrame* f, float3 v) {
     return (float3)(dot(vload3(0, f->world_to_camera), v), dot(vload3(0, f->world_to_camera + 4), v),
@@ -27,7 +28,8 @@ __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t de
                        __global float4* surface0_out, __global float4* surface1_out, __global float4* surface2_out,
                        __global const DcDecal* decals, __global const DcTexture* textures,
                        __global const float4* texels, __global const int* tile_offsets,
-                       __global const int* tile_decals, int binned, __global const float* mask_weights) {
+                       __global const int* tile_decals, int binned, __global const float* mask_weights,
+                       __global const uint* occlusion_maps) {
     const int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame->width || y >= frame->height) return;
     const int2 xy = (int2)(x, y);
@@ -62,6 +64,8 @@ __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t de
         }
         for (int k = begin; k < end; ++k) {
             __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
+            /* blast occlusion: a surface nearer the origin hides this one from the blast */
+            if (d->occlusion_map >= 0 && !dc_blast_reaches(d, occlusion_maps, p, normal)) continue;
             const DcLookup lk = dc_decal_lookup(d, p, normal, has_normal, p_dx, p_dy, footprint);
             if (!(lk.fade > 0.0f)) continue;
             float weight = d->opacity;

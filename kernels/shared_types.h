@@ -110,6 +110,11 @@ typedef struct {
     DC_INT value_mask;
     DC_INT normal_blend;     /* DC_NORMAL_x */
     DC_FLOAT normal_strength; /* scales the map's tangent-plane tilt */
+    /* blast occlusion (frustum, cube): first texel of the decal's map in the map buffer, -1 = off;
+     * the map is occlusion_width x occlusion_height per face (1 face frustum, 6 cube) */
+    DC_INT occlusion_map;
+    DC_INT occlusion_width, occlusion_height;
+    DC_FLOAT occlusion_bias; /* slope-scaled bias in texels */
 } DcDecal;
 
 /* Where a texture's texels (float4, premultiplied linear RGBA, top row first) start. */

@@ -390,6 +390,25 @@ const ErrorCase kErrorCases[] = {
      "decals[0].fade.angle_deg: expected 0 <= start < end <= 180"},
     {"DistanceFadeOnBox", D("{" T ", \"scale\": 1, \"fade\": {\"distance\": [1, 2]}}"),
      "decals[0].fade.distance: only frustum decals have a distance fade"},
+    {"OcclusionOnBox", D("{" T ", \"scale\": 1, \"occlusion\": true}"),
+     "decals[0].occlusion: only frustum and cube decals have blast occlusion"},
+    {"OcclusionOnVolume", D("{\"kind\": \"volume\", " T ", \"scale\": 1, \"occlusion\": {\"resolution\": 64}}"),
+     "decals[0].occlusion: only frustum and cube decals have blast occlusion"},
+    {"OcclusionType", D("{\"kind\": \"frustum\", " T ", \"scale\": 1, \"occlusion\": \"yes\"}"),
+     "decals[0].occlusion: expected true, false or an object with resolution, bias"},
+    {"OcclusionResolutionRange",
+     D("{" T ", \"scale\": 1}, {\"kind\": \"frustum\", " T ", \"scale\": 1, \"occlusion\": {\"resolution\": 8}}"),
+     "decals[1].occlusion.resolution: expected an integer in [16, 4096]"},
+    {"OcclusionResolutionFraction", D("{\"kind\": \"cube\", " T ", \"scale\": 1, \"occlusion\": {\"resolution\": 64.5}}"),
+     "decals[0].occlusion.resolution: expected an integer in [16, 4096]"},
+    {"OcclusionResolutionHuge", D("{\"kind\": \"cube\", " T ", \"scale\": 1, \"occlusion\": {\"resolution\": 8192}}"),
+     "decals[0].occlusion.resolution: expected an integer in [16, 4096]"},
+    {"OcclusionBiasZero", D("{\"kind\": \"cube\", " T ", \"scale\": 1, \"occlusion\": {\"bias\": 0}}"),
+     "decals[0].occlusion.bias: expected texels in (0, 64]"},
+    {"OcclusionBiasType", D("{\"kind\": \"frustum\", " T ", \"scale\": 1, \"occlusion\": {\"bias\": \"2\"}}"),
+     "decals[0].occlusion.bias: expected a finite number"},
+    {"OcclusionUnknownKey", D("{\"kind\": \"frustum\", " T ", \"scale\": 1, \"occlusion\": {\"size\": 3}}"),
+     "decals[0].occlusion.size: unknown key (supported: resolution, bias)"},
     {"VolumeWithCubeTexture", D("{\"kind\": \"volume\", \"texture\": {\"cube\": \"x.png\"}, \"scale\": 1}"),
      "decals[0].texture.cube: a volume decal needs a volume texture"},
     {"KindNotString", D("{\"kind\": 1}"), "decals[0].kind: expected a string"},
@@ -606,6 +625,24 @@ TEST(SceneKinds, FrustumLookAtIsRigidProjector) {
     EXPECT_NEAR(glm::determinant(glm::dmat3(d.world_matrix)), 1.0, 1e-12);
     EXPECT_EQ(d.angle_fade_deg, glm::dvec2(30, 80));
     EXPECT_EQ(d.distance_fade, glm::dvec2(2, 4));
+    EXPECT_FALSE(d.occlusion.enabled);  // off unless asked for
+}
+
+// "occlusion": true takes the defaults, an object overrides them, false switches it off.
+TEST(SceneKinds, BlastOcclusionForms) {
+    test::ScratchDir dir;
+    const std::string texture = test::dataPath("blender/decal_ring.png");
+    std::ofstream(dir.file("o.json")) << R"({"decals": [)"
+        << R"({"kind": "frustum", "texture": ")" << texture << R"(", "scale": 1, "occlusion": true},)"
+        << R"({"kind": "frustum", "texture": ")" << texture << R"(", "scale": 1, "occlusion": {"resolution": 512, "bias": 3.5}},)"
+        << R"({"kind": "frustum", "texture": ")" << texture << R"(", "scale": 1, "occlusion": {"_note": "defaults"}},)"
+        << R"({"kind": "frustum", "texture": ")" << texture << R"(", "scale": 1, "occlusion": false}]})";
+    const DecalScene scene = loadScene(dir.file("o.json"));
+    ASSERT_EQ(scene.decals.size(), 4u);
+    EXPECT_EQ(scene.decals[0].occlusion, (DecalOcclusion{true, 256, 2.0}));
+    EXPECT_EQ(scene.decals[1].occlusion, (DecalOcclusion{true, 512, 3.5}));
+    EXPECT_EQ(scene.decals[2].occlusion, (DecalOcclusion{true, 256, 2.0}));
+    EXPECT_FALSE(scene.decals[3].occlusion.enabled);
 }
 
 }  // namespace

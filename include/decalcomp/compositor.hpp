@@ -21,7 +21,8 @@ struct CompositeStats {
     std::int64_t bin_entries = 0;  // sum over tiles of the tile's decal count
     // Device time from profiling events, milliseconds.
     double tile_bounds_ms = 0, binning_ms = 0, shading_ms = 0;
-    double totalKernelMs() const { return tile_bounds_ms + binning_ms + shading_ms; }
+    double occlusion_ms = 0;  // building blast occlusion maps (0 when no decal occludes)
+    double totalKernelMs() const { return tile_bounds_ms + binning_ms + shading_ms + occlusion_ms; }
 };
 
 // What the binning produced for the last frame, for tests and `--stats`.

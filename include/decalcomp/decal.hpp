@@ -2,6 +2,7 @@
 // Decals and their textures as the compositor consumes them (already validated and decoded).
 #include <glm/glm.hpp>
 #include <array>
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -76,6 +77,15 @@ struct TargetEffect {
 };
 // Default ops: over, except multiply for ambient occlusion and add for emission.
 std::array<TargetEffect, kDecalTargets> defaultTargetEffects();
+// Blast occlusion (frustum and cube decals; docs/conventions.md "Blast occlusion"): a depth map
+// from the decal's origin built from the G-buffer's own points; the decal reaches only the
+// surfaces nearest the origin. Off unless the scene asks for it.
+struct DecalOcclusion {
+    bool enabled = false;
+    int resolution = 256;  // texels along the longer map side (frustum) or a cube face's side
+    double bias = 2.0;     // slope-scaled bias in map texels at the point's distance
+    bool operator==(const DecalOcclusion&) const = default;
+};
 
 struct Decal {
     std::string name;
@@ -103,6 +113,7 @@ struct Decal {
     glm::dvec2 angle_fade_deg{0.0, 0.0};
     double axis_fade = 0.0;  // box/volume: fraction of the half-depth faded at both ends of local Z
     glm::dvec2 distance_fade{0.0, 0.0};  // frustum: fade from distance [0] to [1]; off when [1] <= 0
+    DecalOcclusion occlusion;            // frustum/cube only
 
     // ---- over time (batch sequences, docs/scene-format.md "Animation"); the defaults mean a
     // static decal alive on every frame. sceneAtFrame() evaluates these; the compositor ignores them.
@@ -133,6 +144,13 @@ bool isAnimated(const DecalScene& scene);  // any decal with a lifetime or keyfr
 bool decalAffects(const Decal& decal, DecalTarget target);
 // The targets any decal of the scene changes, by DecalTarget.
 std::array<bool, kDecalTargets> sceneTargets(const DecalScene& scene);
+// The texel grid of a decal's occlusion map: a frustum map has the frustum's aspect, its longer
+// side `resolution` texels (at least 1 on the shorter); a cube map has six resolution^2 faces.
+struct OcclusionMapSize {
+    int width = 0, height = 0, faces = 0;
+    std::size_t texels() const { return std::size_t(width) * std::size_t(height) * std::size_t(faces); }
+};
+OcclusionMapSize occlusionMapSize(const Decal& decal);
 
 // True when M is invertible with a usable condition (not degenerate to float precision).
 bool isInvertibleDecalMatrix(const glm::dmat4& m);

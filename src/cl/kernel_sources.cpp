@@ -20,7 +20,7 @@ namespace {
 // Headers first, in dependency order; every .cl after them. The OpenCL compiler sees one
 // translation unit, so local #include lines are dropped.
 constexpr std::string_view kOrder[] = {"shared_types.h", "matrix.h", "reconstruct.h", "texture_sample.h",
-                                       "decal_kinds.h", "materials.h"};
+                                       "decal_kinds.h", "materials.h", "occlusion.h"};
 
 std::string stripLocalIncludes(std::string_view text) {
     std::string out;

@@ -8,6 +8,7 @@
 
 #include "compositor/kernel_params.hpp"
 #include "compositor/surface_planes.hpp"
+#include "compositor/occlusion_maps.hpp"
 #include "decalcomp/error.hpp"
 
 namespace decalcomp {
@@ -82,7 +83,7 @@ std::vector<float> packMaskWeights(const GBuffer& frame, std::size_t count) {
 }  // namespace
 
 struct Compositor::State {
-    cl::Kernel tile_bounds, decal_bounds, coarse_depth, coarse_mask, coarse_count, coarse_fill, bin_count, bin_fill, shade;
+    cl::Kernel tile_bounds, decal_bounds, coarse_depth, coarse_mask, coarse_count, coarse_fill, bin_count, bin_fill, shade, occlusion;
     cl::Buffer texture_table, texels;
     std::size_t mask_count = 0;
     std::vector<int> texture_entries;  // scene texture index -> texture table entry
@@ -107,6 +108,7 @@ Compositor::Compositor(ComputeDevice& device) : device_(device), state_(std::mak
         state_->bin_count = cl::Kernel(program, "dc_bin_count");
         state_->bin_fill = cl::Kernel(program, "dc_bin_fill");
         state_->shade = cl::Kernel(program, "dc_shade");
+        state_->occlusion = cl::Kernel(program, "dc_occlusion_build");
     } catch (const cl::Error& e) {
         throw deviceError(fmt::format("{}: {}: {}", device_.info().name, e.what(), clErrorName(e.err())));
     }
@@ -152,13 +154,16 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     State& s = *state_;
     cl::Context& context = device_.context();
     cl::CommandQueue& queue = device_.queue();
-    const auto decals = makeDecalParams(s.scene, camera, s.texture_entries);
+    auto decals = makeDecalParams(s.scene, camera, s.texture_entries);
+    const OcclusionLayout occlusion = layoutOcclusionMaps(s.scene.decals, decals);
     cl_types::DcFrame params = makeFrameParams(frame, camera, int(decals.size()));
-    // Normals are read for angle fades, mip footprints and normal maps: skip their upload otherwise.
+    // Normals are read for angle fades, mip footprints, occlusion slopes and normal maps: skip
+    // their upload otherwise.
     const bool needs_footprint = std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
                                              [](const Decal& d) { return d.filter == TextureFilter::Mip; });
-    const bool needs_normals = needs_footprint || std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
-                                                              [](const Decal& d) { return d.angle_fade_deg[1] > 0.0; });
+    const bool needs_normals = needs_footprint || !occlusion.occluders.empty() ||
+                               std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
+                                           [](const Decal& d) { return d.angle_fade_deg[1] > 0.0; });
     const SurfacePlanes surface = packSurface(frame, camera, s.targets, needs_normals);
     params.attributes = surface.attributes;
     params.has_normal = (surface.attributes & (1 << DC_TARGET_NORMAL)) ? 1 : 0;
@@ -285,6 +290,11 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             s.has_binning = false;
         }
 
+        cl::Event e_occlusion;
+        const cl::Buffer occlusion_maps = buildOcclusionMaps(context, queue, s.occlusion, occlusion, frame_buffer, depth,
+                                                             position, decal_buffer, frame.width, frame.height,
+                                                             &e_occlusion);
+
         cl::Event e_shade;
         s.shade.setArg(0, frame_buffer);
         s.shade.setArg(1, depth);
@@ -300,6 +310,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         s.shade.setArg(13, s.tile_decals);
         s.shade.setArg(14, cl_int(options.binned && !decals.empty() ? 1 : 0));
         s.shade.setArg(15, mask_buffer);
+        s.shade.setArg(16, occlusion_maps);
         queue.enqueueNDRangeKernel(s.shade, cl::NullRange, cl::NDRange(std::size_t(frame.width), std::size_t(frame.height)),
                                    cl::NullRange, nullptr, &e_shade);
         std::array<std::vector<float>, kSurfaceGroups> results;
@@ -310,6 +321,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                                     results[std::size_t(g)].data());
         }
         stats.shading_ms = eventMs(e_shade);
+        if (!occlusion.occluders.empty()) stats.occlusion_ms = eventMs(e_occlusion);
         unpackSurface(frame, camera, surface, results, s.targets);
     } catch (const cl::Error& e) {
         throw deviceError(fmt::format("{}: {} failed: {}", device_.info().name, e.what(), clErrorName(e.err())));

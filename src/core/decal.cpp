@@ -1,5 +1,6 @@
 #include "decalcomp/decal.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace decalcomp {
@@ -78,6 +79,15 @@ std::array<bool, kDecalTargets> sceneTargets(const DecalScene& scene) {
     for (const Decal& d : scene.decals)
         for (int t = 0; t < kDecalTargets; ++t) any[std::size_t(t)] = any[std::size_t(t)] || decalAffects(d, DecalTarget(t));
     return any;
+}
+
+OcclusionMapSize occlusionMapSize(const Decal& decal) {
+    const int r = decal.occlusion.resolution;
+    if (decal.kind == DecalKind::Cube) return {r, r, 6};
+    // the frustum's far rectangle is aspect : 1; round the shorter side, keep at least one texel
+    const double a = decal.aspect;
+    const int shorter_w = std::max(1, int(std::lround(r * a))), shorter_h = std::max(1, int(std::lround(r / a)));
+    return a >= 1.0 ? OcclusionMapSize{r, shorter_h, 1} : OcclusionMapSize{shorter_w, r, 1};
 }
 
 bool isInvertibleDecalMatrix(const glm::dmat4& m) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "reference/occlusion.hpp"
+
 namespace decalcomp::reference {
 
 namespace {
@@ -454,13 +456,21 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
     }
     const bool has_normal = frame.has(Attribute::Normal);
     const bool angle_fades = std::any_of(scene.decals.begin(), scene.decals.end(), [](const Decal& d) {
-        return d.angle_fade_deg[1] > 0.0 || d.filter == TextureFilter::Mip;  // both need normals
+        return d.angle_fade_deg[1] > 0.0 || d.filter == TextureFilter::Mip || d.occlusion.enabled;  // need normals
     });
     std::vector<std::vector<Texture2D>> chains;
     for (const Texture2D& t : scene.textures) chains.push_back(mipChain(t));
     const glm::dmat4 inverse_projection = glm::inverse(camera.projection);
     const glm::dmat4 camera_to_world = glm::inverse(camera.world_to_camera);
     const glm::dvec3 camera_position(glm::inverse(camera.world_to_camera)[3]);
+    // the kernels work in camera space: their error grows with the distance to the camera
+    auto slackAt = [&](std::size_t k, const glm::dvec3& P) {
+        return margin * scale[k] * (1.0 + glm::length(P - camera_position));
+    };
+    std::vector<std::optional<BlastMap>> blast_maps(scene.decals.size());
+    for (std::size_t k = 0; k < scene.decals.size(); ++k)
+        if (scene.decals[k].occlusion.enabled)
+            blast_maps[k].emplace(scene.decals[k], frame, camera, [&, k](const glm::dvec3& P) { return slackAt(k, P); });
     for (int y = 0; y < frame.height; ++y)
         for (int x = 0; x < frame.width; ++x) {
             const auto p = pixelWorldPoint(frame, camera, x, y);
@@ -480,13 +490,17 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
             if (normal) surface.normal = *normal;
             for (std::size_t k = 0; k < scene.decals.size(); ++k) {
                 const Decal& decal = scene.decals[k];
-                // the kernels work in camera space: their error grows with the distance to the camera
-                const double slack = margin * scale[k] * (1.0 + glm::length(*p - camera_position));
+                const double slack = slackAt(k, *p);
                 const DecalHit hit = hitDecal(decal, world_to_local[k], *p, normal, footprint, slack);
                 bool ambiguous = hit.ambiguous;
                 if (!(hit.fade > 0.0)) {
                     if (ambiguous) result.ambiguous[i] = 1;
                     continue;
+                }
+                if (blast_maps[k]) {  // blast occlusion: applied only where the blast reaches first
+                    const BlastVisibility v = blast_maps[k]->test(*p, *normal, slack);
+                    if (v.ambiguous) result.ambiguous[i] = 1;
+                    if (!v.reaches) continue;
                 }
                 auto texel = [&](int texture) {
                     if (texture < 0) return std::optional<glm::dvec4>();
@@ -505,7 +519,8 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                 if (decal.mask >= 0) weight *= frame.mask_weights[std::size_t(decal.mask)].at(i, 0);
                 const bool changed = applyDecal(decal, values, hit.fade * weight, normal.value_or(glm::dvec3(0.0)),
                                                 [&](DecalTarget t) { return frame.has(kTargetAttributes[int(t)]); }, surface);
-                if (ambiguous || (normal_tie && decal.angle_fade_deg[1] > 0.0 && changed)) result.ambiguous[i] = 1;
+                const bool uses_normal = decal.angle_fade_deg[1] > 0.0 || decal.occlusion.enabled;
+                if (ambiguous || (normal_tie && uses_normal && changed)) result.ambiguous[i] = 1;
             }
             storeSurface(surface, i, result.planes);
             if (surface.normal_changed && has_normal) {

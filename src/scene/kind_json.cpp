@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdint>
 
 #include "decalcomp/camera.hpp"
 #include "decalcomp/error.hpp"
@@ -55,6 +56,32 @@ void parseFade(const json& fade, const std::string& path, const std::string& fil
     }
 }
 
+// "occlusion": true | false | {"resolution": int in [16, 4096], "bias": number in (0, 64]}.
+void parseOcclusion(const json& v, const std::string& path, const std::string& file, Decal& out) {
+    if (out.kind != DecalKind::Frustum && out.kind != DecalKind::Cube)
+        fail(file, path, "only frustum and cube decals have blast occlusion");
+    if (v.is_boolean()) {
+        out.occlusion.enabled = v.get<bool>();
+        return;
+    }
+    if (!v.is_object()) fail(file, path, "expected true, false or an object with resolution, bias");
+    out.occlusion.enabled = true;
+    for (const auto& [key, value] : v.items()) {
+        const std::string at = path + "." + key;
+        if (key == "resolution") {
+            if (!value.is_number_integer() || value.get<std::int64_t>() < 16 || value.get<std::int64_t>() > 4096)
+                fail(file, at, "expected an integer in [16, 4096]");
+            out.occlusion.resolution = value.get<int>();
+        } else if (key == "bias") {
+            const double bias = number(value, file, at);
+            if (!(bias > 0.0 && bias <= 64.0)) fail(file, at, "expected texels in (0, 64]");
+            out.occlusion.bias = bias;
+        } else if (key.empty() || key[0] != '_') {
+            fail(file, at, "unknown key (supported: resolution, bias)");
+        }
+    }
+}
+
 }  // namespace
 
 std::optional<DecalKind> kindFromName(const std::string& name) {
@@ -95,6 +122,7 @@ void parseKindFields(const json& decal, const std::string& path, const std::stri
         if (!(out.far > out.near)) fail(file, path + ".far", "expected a distance beyond 'near'");
     }
     if (decal.contains("fade")) parseFade(decal.at("fade"), path + ".fade", file, out);
+    if (decal.contains("occlusion")) parseOcclusion(decal.at("occlusion"), path + ".occlusion", file, out);
 }
 
 TextureLayout layoutForKind(DecalKind kind, TextureLayout given, const std::string& path, const std::string& file) {

@@ -18,7 +18,8 @@ std::optional<DecalKind> kindFromName(const std::string& name);
 bool isProjectorLookAt(const nlohmann::json& decal, DecalKind kind);
 glm::dmat4 projectorLookAt(const nlohmann::json& decal, const std::string& path, const std::string& file);
 
-// fov_y_deg/aspect/near/far (frustum only) and "fade": {angle_deg, axis, distance}.
+// fov_y_deg/aspect/near/far (frustum only), "fade": {angle_deg, axis, distance} and
+// "occlusion" (frustum and cube).
 void parseKindFields(const nlohmann::json& decal, const std::string& path, const std::string& file, Decal& out);
 
 // The layout a kind reads its texture in (a plain image means the kind's strip), or an error.

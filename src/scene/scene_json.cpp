@@ -38,7 +38,7 @@ const std::vector<std::string> kDecalKeys = {
     "origin", "target", "up",      "size",   "opacity",      "filter",    "priority",
     "frames", "fade_in", "fade_out", "keyframes", "keyframe_interpolation",  // animation_json.cpp
     "mask",                                                                    // mask_json.cpp
-    "fov_y_deg", "aspect", "near", "far", "fade",                              // kind_json.cpp
+    "fov_y_deg", "aspect", "near", "far", "fade", "occlusion",                 // kind_json.cpp
     "affects"};                                                                // material_json.cpp
 const std::vector<std::string> kDecalNotes = {"description", "blender_object"};
 // Written by the neutral Blender export next to world_matrix; they restate it.
