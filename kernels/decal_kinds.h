@@ -52,9 +52,16 @@ inline float4 dc_decal_colour(__global const DcDecal* d, __global const DcTextur
         if (d->texture < 0) return (float4)(0.0f);
         if (d->kind == DC_KIND_BOX)
             DC_SAMPLE_2D(DC_BOX_ST);
-        else /* volumes have no mip chain of their own: "mip" samples level 0 trilinearly */
-            texel = dc_sample_3d(texels, textures[d->texture], l.x + 0.5f, 0.5f - l.y, l.z + 0.5f,
-                                 d->filter == DC_FILTER_NEAREST ? DC_FILTER_NEAREST : DC_FILTER_LINEAR);
+        else if (d->filter == DC_FILTER_MIP) { /* quadrilinear in the volume's 3D mip chain */
+            const float lod = footprint
+                                  ? dc_lod_volume(l, dc_affine_global(d->camera_to_local, p_dx),
+                                                  dc_affine_global(d->camera_to_local, p_dy), textures[d->texture])
+                                  : 1e9f;
+            texel = dc_sample_chain(texels, textures, d->texture, l.x + 0.5f, 0.5f - l.y, l.z + 0.5f, 0, lod,
+                                    DC_LEVEL_VOLUME);
+        } else {
+            texel = dc_sample_3d(texels, textures[d->texture], l.x + 0.5f, 0.5f - l.y, l.z + 0.5f, d->filter);
+        }
     } else if (d->kind == DC_KIND_FRUSTUM) {
         const float dist = -l.z;
         const float half_h = dist * d->tan_half_fov_y, half_w = half_h * d->aspect;
@@ -82,9 +89,9 @@ inline float4 dc_decal_colour(__global const DcDecal* d, __global const DcTextur
             const float3 lx = dc_affine_global(d->camera_to_local, p_dx), ly = dc_affine_global(d->camera_to_local, p_dy);
             const float lod = footprint ? dc_lod(st, dc_cube_face_st(lx, face), dc_cube_face_st(ly, face), textures[d->texture])
                                         : 1e9f;
-            texel = dc_sample_mip(texels, textures, d->texture, st.x, st.y, face, lod);
+            texel = dc_sample_chain(texels, textures, d->texture, st.x, st.y, 0.0f, face, lod, DC_LEVEL_CUBE);
         } else {
-            texel = dc_sample_slice(texels, textures[d->texture], st.x, st.y, face, d->filter);
+            texel = dc_sample_cube_face(texels, textures[d->texture], st.x, st.y, face, d->filter);
         }
     }
     return texel * fade;
