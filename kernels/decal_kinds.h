@@ -86,14 +86,20 @@ inline DcLookup dc_decal_lookup(__global const DcDecal* d, float3 p, float3 norm
  * premultiplied RGBA. Mip levels come from the footprint mapped the same way. */
 inline float4 dc_lookup_texel(__global const DcDecal* d, const DcLookup* lk, __global const DcTexture* textures,
                               __global const float4* texels, int index) {
-    if (d->kind == DC_KIND_VOLUME) /* volumes have no mip chain of their own: "mip" samples level 0 trilinearly */
-        return dc_sample_3d(texels, textures[index], lk->coord.x, lk->coord.y, lk->coord.z,
-                            d->filter == DC_FILTER_NEAREST ? DC_FILTER_NEAREST : DC_FILTER_LINEAR);
-    if (d->filter == DC_FILTER_MIP) {
-        const float lod = lk->has_footprint ? dc_lod(lk->coord.xy, lk->coord_dx.xy, lk->coord_dy.xy, textures[index]) : 1e9f;
-        return dc_sample_mip(texels, textures, index, lk->coord.x, lk->coord.y, lk->face, lod);
+    const float3 c = lk->coord;
+    if (d->kind == DC_KIND_VOLUME) {
+        if (d->filter != DC_FILTER_MIP) return dc_sample_3d(texels, textures[index], c.x, c.y, c.z, d->filter);
+        /* quadrilinear in the volume's 3D mip chain; (s, t, r) moves with local space up to a sign */
+        const float lod = lk->has_footprint ? dc_lod_volume(c, lk->coord_dx, lk->coord_dy, textures[index]) : 1e9f;
+        return dc_sample_chain(texels, textures, index, c.x, c.y, c.z, 0, lod, DC_LEVEL_VOLUME);
     }
-    return dc_sample_slice(texels, textures[index], lk->coord.x, lk->coord.y, lk->face, d->filter);
+    const int cube = d->kind == DC_KIND_CUBE;
+    if (d->filter == DC_FILTER_MIP) {
+        const float lod = lk->has_footprint ? dc_lod(c.xy, lk->coord_dx.xy, lk->coord_dy.xy, textures[index]) : 1e9f;
+        return dc_sample_chain(texels, textures, index, c.x, c.y, 0.0f, lk->face, lod, cube ? DC_LEVEL_CUBE : DC_LEVEL_SLICE);
+    }
+    return cube ? dc_sample_cube_face(texels, textures[index], c.x, c.y, lk->face, d->filter)
+                : dc_sample_slice(texels, textures[index], c.x, c.y, 0, d->filter);
 }
 
 /* Camera-space directions in which s grows and t falls (the image's right and up) at the

@@ -24,6 +24,7 @@ using test::compositeAndCompare;
 using test::cpuDevice;
 using test::makeRandomDecals;
 using test::makeRandomFrame;
+using test::randomTexture;
 using test::roundingMargin;
 
 class RandomScenes : public ::testing::TestWithParam<std::uint32_t> {};
@@ -202,6 +203,108 @@ TEST(Kernels, AngleFadeWithNormalsFromDepthMatchesReference) {
         compositor.composite(unfaded, f.camera);
         EXPECT_NE(unfaded.planes.at(Attribute::Albedo).samples, out.planes.at(Attribute::Albedo).samples);
     }
+}
+
+}  // namespace
+}  // namespace decalcomp
+
+namespace decalcomp {
+namespace {
+
+// A floor and a few spheres under a camera looking down at an angle, for kind-specific scenes.
+RandomFrame floorFrame(std::uint32_t seed, int width, int height) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    RandomFrame f;
+    f.scene.materials = {synth::Material{}};
+    f.scene.planes = {{{0, 0, 0}, {0, 0, 1}, 0}};
+    for (int n = 0; n < 4; ++n) f.scene.spheres.push_back({{3.0 * u(rng), 3.0 * u(rng), 0.3}, 0.6 + 0.3 * u(rng), 0});
+    f.camera.world_to_camera = lookAt({u(rng), -9.0, 6.0 + u(rng)}, {0.0, 0.0, 0.0}, {0.0, 0.0, 1.0});
+    f.camera.projection = perspectiveProjection(glm::radians(50.0), double(width) / height, 0.1, 100.0);
+    f.gbuffer = synth::render(f.scene, f.camera, synth::RenderOptions{width, height});
+    return f;
+}
+
+// `count` decals of `kind` at random places over the floor frame's floor, rotated at random,
+// `size(k, random in [-1, 1])` wide, alternating between the textures.
+template <class Size>
+DecalScene decalsOverFloor(DecalKind kind, std::vector<Texture2D> textures, int count, std::uint32_t seed, Size size) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    DecalScene scene;
+    scene.textures = std::move(textures);
+    for (int k = 0; k < count; ++k) {
+        Decal d;
+        d.kind = kind;
+        glm::dmat4 m = glm::translate(glm::dmat4(1.0), {3.5 * u(rng), 3.5 * u(rng), 0.3 * u(rng)});
+        m = glm::rotate(m, 3.0 * u(rng), glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)) + 1e-6));
+        d.world_matrix = glm::scale(m, glm::dvec3(size(k, u(rng))));
+        d.albedo_texture = k % int(scene.textures.size());
+        scene.decals.push_back(d);
+    }
+    return scene;
+}
+
+// Cube decals with tiny faces (4 and 5 texels) spread over the floor and spheres, rotated at
+// random, linear and mip: a large share of their pixels has a bilinear tap on a neighbour face,
+// so the seamless rule (neighbour faces, corners) is compared texel for texel with the reference.
+TEST(Kernels, SeamlessCubeLinearAndMipMatchReference) {
+    const RandomFrame f = floorFrame(21, 150, 110);
+    std::mt19937 rng(22);
+    DecalScene decals = decalsOverFloor(
+        DecalKind::Cube,
+        {randomTexture(4, 4, 6, rng, TextureShape::Cube), randomTexture(5, 5, 6, rng, TextureShape::Cube)}, 40, 23,
+        [](int, double random) { return 3.0 + 1.5 * random; });
+    for (std::size_t k = 0; k < decals.decals.size(); ++k) {
+        decals.decals[k].opacity = 0.8f;
+        decals.decals[k].filter = k % 3 == 0 ? TextureFilter::Mip : TextureFilter::Linear;
+    }
+    // pixels whose lookup has a tap past a face edge (level 0)
+    std::size_t seam_pixels = 0;
+    for (int y = 0; y < f.gbuffer.height; ++y)
+        for (int x = 0; x < f.gbuffer.width; ++x) {
+            const auto p = reference::pixelWorldPoint(f.gbuffer, f.camera, x, y);
+            if (!p) continue;
+            for (const Decal& d : decals.decals) {
+                const glm::dvec3 l(glm::inverse(d.world_matrix) * glm::dvec4(*p, 1.0));
+                if (glm::length(l) > 0.5) continue;
+                const reference::CubeLookup c = reference::cubeLookup(l);
+                const double n = decals.textures[std::size_t(d.albedo_texture)].width;
+                if (std::min(c.s, c.t) * n < 0.5 || std::max(c.s, c.t) * n > n - 0.5) {
+                    ++seam_pixels;
+                    break;
+                }
+            }
+        }
+    const auto [out, c] = compositeAndCompare(f, decals);
+    std::printf("cube seams: %zu of %zu pixels changed, %zu with a tap on a neighbour face; max error %.2g\n",
+                c.changed, f.gbuffer.pixelCount(), seam_pixels, c.max_error);
+    EXPECT_EQ(c.mismatched, 0u) << "max error " << c.max_error << " over " << c.compared << " pixels";
+    EXPECT_GT(double(c.changed), 0.3 * double(f.gbuffer.pixelCount()));
+    EXPECT_GT(double(seam_pixels), 0.3 * double(c.changed));
+    EXPECT_LT(double(c.ambiguous), 0.05 * double(f.gbuffer.pixelCount()));
+}
+
+// Volume decals with `mip` from magnified to strongly minified (small on screen, grazing): the
+// quadrilinear lookup in the 3D chain (odd sizes included) matches the reference.
+TEST(Kernels, VolumeMipMatchesReference) {
+    const RandomFrame f = floorFrame(31, 150, 110);
+    std::mt19937 rng(32);
+    // from a tenth of a unit (a few pixels: the coarsest levels) to several units
+    DecalScene decals = decalsOverFloor(
+        DecalKind::Volume,
+        {randomTexture(32, 32, 32, rng, TextureShape::Volume), randomTexture(24, 20, 9, rng, TextureShape::Volume)}, 24,
+        33, [](int k, double random) { return k % 4 == 0 ? 0.1 : 2.0 + 1.5 * random; });
+    for (Decal& d : decals.decals) d.filter = TextureFilter::Mip;
+    const auto [out, c] = compositeAndCompare(f, decals);
+    std::printf("volume mip: %zu of %zu pixels changed, max error %.2g\n", c.changed, f.gbuffer.pixelCount(),
+                c.max_error);
+    EXPECT_EQ(c.mismatched, 0u) << "max error " << c.max_error << " over " << c.compared << " pixels";
+    EXPECT_GT(double(c.changed), 0.2 * double(f.gbuffer.pixelCount()));
+    // and mip is not level 0 here: the result differs from trilinear level-0 lookups
+    for (Decal& d : decals.decals) d.filter = TextureFilter::Linear;
+    const auto [level0, c0] = compositeAndCompare(f, decals);
+    EXPECT_NE(level0.planes.at(Attribute::Albedo).samples, out.planes.at(Attribute::Albedo).samples);
 }
 
 }  // namespace

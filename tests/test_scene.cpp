@@ -576,11 +576,16 @@ TEST(SceneKinds, BlenderKindsSampleLoads) {
             EXPECT_EQ(t.width, 32);
             EXPECT_EQ(t.height, 32);
             EXPECT_EQ(t.depth, 32);
+            EXPECT_EQ(t.shape, TextureShape::Volume);
             EXPECT_EQ(d.filter, TextureFilter::Linear);
         }
         if (d.kind == DecalKind::Cube) {
             EXPECT_EQ(t.depth, 6);
             EXPECT_EQ(t.width, t.height);
+            EXPECT_EQ(t.shape, TextureShape::Cube);  // from six face files
+        }
+        if (d.kind == DecalKind::Box) {
+            EXPECT_EQ(t.shape, TextureShape::Flat);
         }
         if (d.kind == DecalKind::Frustum) {
             EXPECT_DOUBLE_EQ(d.fov_y_deg, 40.0);

@@ -31,12 +31,17 @@ const char* blendOpName(BlendOp op);          // "over", "multiply", "add", "rep
 const char* normalBlendName(NormalBlend b);   // "rnm", "udn", "whiteout", "replace"
 const char* textureFilterName(TextureFilter f);
 
+// What the slices of a texture are: one 2D image (or independent layers), the slices of one
+// volume, or the six faces of a cube. Mip chains and filtering follow the shape.
+enum class TextureShape { Flat, Volume, Cube };
+
 // RGBA texels in scene-linear colour with premultiplied alpha, row 0 = the image's top row.
 // `depth` > 1 holds that many width x height slices back to back: the slices of a volume
 // (slice k covers r in [k/depth, (k+1)/depth]) or the six faces of a cube (+X,-X,+Y,-Y,+Z,-Z).
 struct Texture2D {
     std::string source;  // file it came from, for messages
     int width = 0, height = 0, depth = 1;
+    TextureShape shape = TextureShape::Flat;  // set by volumeFromStrip, cubeFromStrip, cubeFromFaces
     std::vector<glm::vec4> texels;
 };
 
@@ -46,8 +51,12 @@ Texture2D volumeFromStrip(Texture2D strip);
 Texture2D cubeFromStrip(const Texture2D& strip);
 // Six face images in +X,-X,+Y,-Y,+Z,-Z order, all N x N, as a cube.
 Texture2D cubeFromFaces(const std::vector<Texture2D>& faces);
-// The mip chain of a texture, level 0 first, down to 1x1: each level averages 2x2 texels of the
-// one above within each slice (slices are kept, so cube faces never mix); odd edges repeat.
+// The mip chain of a texture, level 0 first. Each level has floor(n / 2) texels (at least 1) along
+// every axis that shrinks, each the exact box average of the region of the level above it covers:
+// 2x2 (2x2x2) texels for even sizes; on an odd axis the boundary texel is shared by overlap
+// (n = 5: weights 1, 1, 1/2 and 1/2, 1, 1 over 2.5 texels), so no texel is dropped and the mean is
+// kept. Volumes shrink in width, height and depth down to 1x1x1; flat and cube textures shrink
+// within each slice down to 1x1 and keep their slices (cube faces never mix).
 std::vector<Texture2D> mipChain(const Texture2D& texture);
 
 // Which surfaces a decal may touch. Evaluated per frame into a weight plane (1 = full effect),

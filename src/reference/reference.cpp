@@ -170,22 +170,65 @@ std::vector<std::vector<int>> exactBins(const GBuffer& frame, const Camera& came
 
 namespace {
 
-glm::dvec4 sampleSlice(const Texture2D& texture, double s, double t, long slice, TextureFilter filter) {
+glm::dvec4 texelAt(const Texture2D& texture, long i, long j, long slice) {
+    i = std::clamp<long>(i, 0, texture.width - 1);
+    j = std::clamp<long>(j, 0, texture.height - 1);
     slice = std::clamp<long>(slice, 0, texture.depth - 1);
-    auto texel = [&](long i, long j) {
-        i = std::clamp<long>(i, 0, texture.width - 1);
-        j = std::clamp<long>(j, 0, texture.height - 1);
-        return glm::dvec4(texture.texels[(std::size_t(slice) * texture.height + std::size_t(j)) * texture.width + std::size_t(i)]);
-    };
-    const double x = std::clamp(s * texture.width, -1.0, double(texture.width) + 1.0);
-    const double y = std::clamp(t * texture.height, -1.0, double(texture.height) + 1.0);
-    if (filter == TextureFilter::Nearest) return texel(long(std::floor(x)), long(std::floor(y)));
-    // bilinear between the four nearest texel centres, (i + 0.5) / width
+    return glm::dvec4(
+        texture.texels[(std::size_t(slice) * texture.height + std::size_t(j)) * texture.width + std::size_t(i)]);
+}
+
+// Bilinear between the four texel centres ((i + 0.5) / width) around texel-space point (x, y);
+// `texel(i, j)` fetches a tap, which may lie one texel outside the image.
+template <class Texel>
+glm::dvec4 bilinear(double x, double y, Texel texel) {
     const double fx = x - 0.5, fy = y - 0.5;
     const long i = long(std::floor(fx)), j = long(std::floor(fy));
     const double ax = fx - i, ay = fy - j;
     return (texel(i, j) * (1 - ax) + texel(i + 1, j) * ax) * (1 - ay) +
            (texel(i, j + 1) * (1 - ax) + texel(i + 1, j + 1) * ax) * ay;
+}
+
+glm::dvec4 sampleSlice(const Texture2D& texture, double s, double t, long slice, TextureFilter filter) {
+    const double x = std::clamp(s * texture.width, -1.0, double(texture.width) + 1.0);
+    const double y = std::clamp(t * texture.height, -1.0, double(texture.height) + 1.0);
+    if (filter == TextureFilter::Nearest) return texelAt(texture, long(std::floor(x)), long(std::floor(y)), slice);
+    return bilinear(x, y, [&](long i, long j) { return texelAt(texture, i, j, slice); });
+}
+
+// Each cube face as the direction of its centre and the directions in which s and t grow
+// (the OpenGL cube-map rule: +X s = -z t = -y; -X s = z t = -y; +Y s = x t = z; -Y s = x t = -z;
+// +Z s = x t = -y; -Z s = -x t = -y).
+struct FaceFrame {
+    glm::dvec3 centre, s_axis, t_axis;
+};
+const FaceFrame kCubeFaces[6] = {
+    {{1, 0, 0}, {0, 0, -1}, {0, -1, 0}}, {{-1, 0, 0}, {0, 0, 1}, {0, -1, 0}}, {{0, 1, 0}, {1, 0, 0}, {0, 0, 1}},
+    {{0, -1, 0}, {1, 0, 0}, {0, 0, -1}}, {{0, 0, 1}, {1, 0, 0}, {0, -1, 0}},  {{0, 0, -1}, {-1, 0, 0}, {0, -1, 0}},
+};
+
+// Texel (i, j) of a cube face where i or j may lie one texel outside it: a tap past one edge is
+// the nearest texel of the face that the direction of its centre on the extended face plane picks;
+// a tap past two edges (a cube corner) is the mean of the three texels that meet at that corner.
+glm::dvec4 cubeTexel(const Texture2D& texture, int face, long i, long j) {
+    const bool inside_i = i >= 0 && i < texture.width, inside_j = j >= 0 && j < texture.height;
+    if (inside_i && inside_j) return texelAt(texture, i, j, face);
+    auto across = [&](long a, long b) {
+        const FaceFrame& f = kCubeFaces[face];
+        const double u = (a + 0.5) / texture.width * 2.0 - 1.0, v = (b + 0.5) / texture.height * 2.0 - 1.0;
+        const CubeLookup c = cubeLookup(f.centre + u * f.s_axis + v * f.t_axis);
+        return texelAt(texture, long(std::floor(c.s * texture.width)), long(std::floor(c.t * texture.height)), c.face);
+    };
+    if (inside_i || inside_j) return across(i, j);
+    const long ci = std::clamp<long>(i, 0, texture.width - 1), cj = std::clamp<long>(j, 0, texture.height - 1);
+    return (texelAt(texture, ci, cj, face) + across(i, cj) + across(ci, j)) / 3.0;
+}
+
+// A lookup at (s, t) on one cube face: nearest within the face, bilinear across its edges.
+glm::dvec4 sampleCubeFace(const Texture2D& texture, int face, double s, double t, TextureFilter filter) {
+    if (filter == TextureFilter::Nearest) return sampleSlice(texture, s, t, face, filter);
+    return bilinear(s * texture.width, t * texture.height,
+                    [&](long i, long j) { return cubeTexel(texture, face, i, j); });
 }
 
 }  // namespace
@@ -230,7 +273,7 @@ CubeLookup cubeLookup(const glm::dvec3& d) {
 
 glm::dvec4 sampleCube(const Texture2D& texture, const glm::dvec3& direction, TextureFilter filter) {
     const CubeLookup c = cubeLookup(direction);
-    return sampleSlice(texture, c.s, c.t, c.face, filter);
+    return sampleCubeFace(texture, c.face, c.s, c.t, filter);
 }
 
 namespace {
@@ -238,13 +281,14 @@ namespace {
 // 1 up to `full`, 0 from `none`, linear between.
 double rampDown(double x, double full, double none) { return std::clamp((none - x) / (none - full), 0.0, 1.0); }
 
-// Trilinear lookup in a mip chain: bilinear in the levels around lod, blended.
-glm::dvec4 sampleMip(const std::vector<Texture2D>& chain, double s, double t, long slice, double lod) {
+// Mip lookup: the levels around lod, each filtered by `level_lookup(level)`, blended.
+template <class LevelLookup>
+glm::dvec4 sampleMip(const std::vector<Texture2D>& chain, double lod, LevelLookup level_lookup) {
     lod = std::clamp(lod, 0.0, double(chain.size() - 1));
     const std::size_t l0 = std::size_t(std::floor(lod)), l1 = std::min(l0 + 1, chain.size() - 1);
     const double f = lod - double(l0);
-    const glm::dvec4 a = sampleSlice(chain[l0], s, t, slice, TextureFilter::Linear);
-    return f > 0.0 ? a * (1.0 - f) + sampleSlice(chain[l1], s, t, slice, TextureFilter::Linear) * f : a;
+    const glm::dvec4 a = level_lookup(chain[l0]);
+    return f > 0.0 ? a * (1.0 - f) + level_lookup(chain[l1]) * f : a;
 }
 
 // log2 of the longer footprint axis in level-0 texels (0 when magnified).
@@ -353,15 +397,24 @@ glm::dvec4 hitTexel(const DecalHit& hit, const Decal& decal, const Texture2D& t,
         ambiguous |= nearEdge(st.x, t.width, slack) || nearEdge(st.y, t.height, slack);
         if (decal.filter != TextureFilter::Mip) return sampleTexture(t, st.x, st.y, decal.filter);
         const double lod = hit.footprint ? levelOfDetail(st, st_of(hit.local_dx), st_of(hit.local_dy), t) : 1e9;
-        return sampleMip(chain, st.x, st.y, 0, lod);
+        return sampleMip(chain, lod, [&](const Texture2D& level) {
+            return sampleTexture(level, st.x, st.y, TextureFilter::Linear);
+        });
     };
     switch (decal.kind) {
         case DecalKind::Box: return lookup2d([](const glm::dvec3& v) { return glm::dvec2(v.x + 0.5, 0.5 - v.y); });
         case DecalKind::Volume: {
-            const double s = l.x + 0.5, tc = 0.5 - l.y, r = l.z + 0.5;
-            ambiguous |= nearEdge(s, t.width, slack) || nearEdge(tc, t.height, slack) || nearEdge(r, t.depth, slack);
-            // volumes have no mip chain of their own: "mip" samples level 0 trilinearly
-            return sampleVolume(t, s, tc, r, decal.filter == TextureFilter::Nearest ? TextureFilter::Nearest : TextureFilter::Linear);
+            auto str = [](const glm::dvec3& v) { return glm::dvec3(v.x + 0.5, 0.5 - v.y, v.z + 0.5); };
+            const glm::dvec3 c = str(l);
+            ambiguous |= nearEdge(c.x, t.width, slack) || nearEdge(c.y, t.height, slack) || nearEdge(c.z, t.depth, slack);
+            if (decal.filter != TextureFilter::Mip) return sampleVolume(t, c.x, c.y, c.z, decal.filter);
+            // level from the footprint in level-0 voxels; trilinear in the two levels around it
+            const glm::dvec3 size(t.width, t.height, t.depth);
+            const double rho = std::max(glm::length((str(hit.local_dx) - c) * size), glm::length((str(hit.local_dy) - c) * size));
+            const double lod = !hit.footprint ? 1e9 : rho > 1.0 ? std::log2(rho) : 0.0;
+            return sampleMip(chain, lod, [&](const Texture2D& level) {
+                return sampleVolume(level, c.x, c.y, c.z, TextureFilter::Linear);
+            });
         }
         case DecalKind::Frustum: {
             const double tan_half = std::tan(glm::radians(decal.fov_y_deg) / 2.0), aspect = decal.aspect;
@@ -383,7 +436,9 @@ glm::dvec4 hitTexel(const DecalHit& hit, const Decal& decal, const Texture2D& t,
             };
             const double lod =
                 hit.footprint ? levelOfDetail(glm::dvec2(c.s, c.t), on_face(hit.local_dx), on_face(hit.local_dy), t) : 1e9;
-            return sampleMip(chain, c.s, c.t, c.face, lod);
+            return sampleMip(chain, lod, [&](const Texture2D& level) {
+                return sampleCubeFace(level, c.face, c.s, c.t, TextureFilter::Linear);
+            });
         }
     }
     return glm::dvec4(0.0);

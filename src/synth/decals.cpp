@@ -75,6 +75,7 @@ void convertDecals(DecalScene& scene, DecalKind kind, std::uint32_t seed) {
         t.source = "procedural";
         t.width = t.height = 32;
         t.depth = depth;
+        t.shape = kind == DecalKind::Volume ? TextureShape::Volume : TextureShape::Cube;
         for (int k = 0; k < depth; ++k) {
             const Texture2D slice = proceduralTexture(k, 32, seed + std::uint32_t(k));
             t.texels.insert(t.texels.end(), slice.texels.begin(), slice.texels.end());

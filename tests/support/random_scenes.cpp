@@ -41,16 +41,15 @@ RandomFrame makeRandomFrame(std::uint32_t seed) {
     return f;
 }
 
-namespace {
-
 // Random premultiplied texels: alpha in [0,1], colour <= alpha.
-Texture2D randomTexture(int width, int height, int depth, std::mt19937& rng) {
+Texture2D randomTexture(int width, int height, int depth, std::mt19937& rng, TextureShape shape) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     Texture2D t;
     t.source = "random";
     t.width = width;
     t.height = height;
     t.depth = depth;
+    t.shape = shape;
     for (int i = 0; i < width * height * depth; ++i) {
         const float a = u(rng);
         t.texels.emplace_back(u(rng) * a, u(rng) * a, u(rng) * a, a);
@@ -58,14 +57,16 @@ Texture2D randomTexture(int width, int height, int depth, std::mt19937& rng) {
     return t;
 }
 
+namespace {
+
 // Turns scattered box decals into every kind, and switches fades on at random.
 void convertKinds(DecalScene& scene, const RandomFrame& f, std::uint32_t seed) {
     std::mt19937 rng(seed * 31 + 7);
     std::uniform_real_distribution<double> u(-1.0, 1.0), u01(0.0, 1.0);
     const int volume = int(scene.textures.size());
-    scene.textures.push_back(randomTexture(6, 6, 5, rng));
+    scene.textures.push_back(randomTexture(6, 6, 5, rng, TextureShape::Volume));
     const int cube = int(scene.textures.size());
-    scene.textures.push_back(randomTexture(7, 7, 6, rng));
+    scene.textures.push_back(randomTexture(7, 7, 6, rng, TextureShape::Cube));
     const bool normals = f.gbuffer.has(Attribute::Normal);
     for (std::size_t k = 0; k < scene.decals.size(); ++k) {
         Decal& d = scene.decals[k];

@@ -22,6 +22,9 @@ struct RandomFrame {
 };
 RandomFrame makeRandomFrame(std::uint32_t seed);
 
+// Random premultiplied texels: alpha in [0,1], colour <= alpha.
+Texture2D randomTexture(int width, int height, int depth, std::mt19937& rng, TextureShape shape = TextureShape::Flat);
+
 // Hundreds of decals of every kind: scattered on surfaces plus the hard cases, all in one scene.
 DecalScene makeRandomDecals(const RandomFrame& f, std::uint32_t seed, int count);
 
