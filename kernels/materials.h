@@ -80,6 +80,17 @@ inline void dc_apply_normal_map(__global const DcDecal* d, const DcLookup* lk, f
     s->normal_changed = 1;
 }
 
+/* A colour target's value: the decal's constant when it has one (the texture then only shapes
+ * the coverage), else the texture's straight colour. */
+inline bool dc_value3(__global const DcDecal* d, int target, __global const float* fixed, int texture, float4 texel,
+                      float3* v) {
+    if (d->value_mask & (1 << target)) {
+        *v = vload3(0, fixed);
+        return true;
+    }
+    return texture >= 0 && dc_straight(texel, v);
+}
+
 inline bool dc_targets(__constant const DcFrame* frame, __global const DcDecal* d, int target) {
     return (frame->attributes & (1 << target)) && d->factor[target] > 0.0f;
 }
@@ -113,12 +124,9 @@ inline void dc_apply_decal(__constant const DcFrame* frame, __global const DcDec
     const float g = coverage * lk->fade * weight; /* before each target's factor */
     if (!(g > 0.0f)) return;
     float3 v;
-    if (want_albedo) {
+    if (want_albedo && dc_value3(d, DC_TARGET_ALBEDO, d->albedo_value, d->texture, albedo, &v)) {
         const float gt = g * d->factor[DC_TARGET_ALBEDO];
-        if (d->texture >= 0 ? dc_straight(albedo, &v) : (d->value_mask & (1 << DC_TARGET_ALBEDO)) != 0) {
-            if (d->texture < 0) v = vload3(0, d->albedo_value);
-            s->albedo = dc_blend3(s->albedo, v, clamp(gt, 0.0f, 1.0f), gt, d->op[DC_TARGET_ALBEDO]);
-        }
+        s->albedo = dc_blend3(s->albedo, v, clamp(gt, 0.0f, 1.0f), gt, d->op[DC_TARGET_ALBEDO]);
     }
     if (want_normal) dc_apply_normal_map(d, lk, normal, surface_normal, clamp(g * d->factor[DC_TARGET_NORMAL], 0.0f, 1.0f), s);
     const bool orm_ok = d->orm_texture >= 0 && dc_straight(orm, &v);
@@ -126,11 +134,10 @@ inline void dc_apply_decal(__constant const DcFrame* frame, __global const DcDec
     for (int target = DC_TARGET_ROUGHNESS; target <= DC_TARGET_AO; ++target) {
         if (!dc_targets(frame, d, target)) continue;
         float value;
-        if (d->orm_texture >= 0) {
-            if (!orm_ok) continue;
-            value = target == DC_TARGET_AO ? orm_value.x : target == DC_TARGET_ROUGHNESS ? orm_value.y : orm_value.z;
-        } else if (d->value_mask & (1 << target)) {
+        if (d->value_mask & (1 << target)) {
             value = target == DC_TARGET_AO ? d->ao_value : target == DC_TARGET_ROUGHNESS ? d->roughness_value : d->metallic_value;
+        } else if (orm_ok) {
+            value = target == DC_TARGET_AO ? orm_value.x : target == DC_TARGET_ROUGHNESS ? orm_value.y : orm_value.z;
         } else {
             continue;
         }
@@ -138,12 +145,9 @@ inline void dc_apply_decal(__constant const DcFrame* frame, __global const DcDec
         float* a = target == DC_TARGET_AO ? &s->ao : target == DC_TARGET_ROUGHNESS ? &s->roughness : &s->metallic;
         *a = dc_blend1(*a, value, f, gt, d->op[target]);
     }
-    if (want_emission) {
+    if (want_emission && dc_value3(d, DC_TARGET_EMISSION, d->emission_value, d->emission_texture, emission, &v)) {
         const float gt = g * d->factor[DC_TARGET_EMISSION];
-        if (d->emission_texture >= 0 ? dc_straight(emission, &v) : (d->value_mask & (1 << DC_TARGET_EMISSION)) != 0) {
-            if (d->emission_texture < 0) v = vload3(0, d->emission_value);
-            s->emission = dc_blend3(s->emission, v, clamp(gt, 0.0f, 1.0f), gt, d->op[DC_TARGET_EMISSION]);
-        }
+        s->emission = dc_blend3(s->emission, v, clamp(gt, 0.0f, 1.0f), gt, d->op[DC_TARGET_EMISSION]);
     }
 }
 

@@ -33,6 +33,10 @@ struct BinningResult {
     std::vector<int> tile_decals;    // decal indices, per tile in scene order
 };
 
+// The attributes composite() may change for a scene: the albedo, and each material attribute
+// some decal affects (decalAffects). Callers write exactly these back to their files.
+std::vector<Attribute> compositedAttributes(const DecalScene& scene);
+
 class Compositor {
 public:
     explicit Compositor(ComputeDevice& device);

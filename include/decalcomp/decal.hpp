@@ -76,8 +76,9 @@ struct DecalKeyframe {
 };
 enum class KeyframeInterpolation { Linear, Step };
 
-// What a decal does to one target. factor 0 leaves the target alone. `value` is a constant used
-// where the texture set has no texture for the target (albedo/emission: RGB; others: .r).
+// What a decal does to one target. factor 0 leaves the target alone. `value` is a constant that
+// replaces the texture's value for the target (albedo/emission: RGB; others: .r); the textures
+// still shape the coverage.
 struct TargetEffect {
     float factor = 1.0f;
     BlendOp op = BlendOp::Over;

@@ -66,6 +66,9 @@ struct MappingOptions {
     std::map<Attribute, std::vector<std::string>> explicit_channels;
     std::optional<DepthConvention> depth_convention;  // explicit wins over the profile default
     bool reversed_z = false;
+    // --normals SPACE,ENCODING: explicit wins over the profile and the check against the geometry
+    std::optional<std::string> normal_space;     // world | camera
+    std::optional<std::string> normal_encoding;  // signed | unsigned
 };
 
 // How several files make one frame: files[0, positional) are pooled and mapped through the profile
@@ -92,6 +95,7 @@ struct ChannelMapping {
     bool reversed_z = false;
     std::string normal_space = "world";      // of the mapped normal channels: world | camera
     std::string normal_encoding = "signed";  // signed | unsigned (n * 0.5 + 0.5)
+    bool normal_encoding_explicit = false;   // from --normals, not the profile
 };
 
 // Throws Error(Input) for unknown profiles, explicit channels that do not exist, ambiguous layers,

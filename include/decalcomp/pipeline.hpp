@@ -10,6 +10,7 @@
 #include "decalcomp/camera_solve.hpp"
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/exr_io.hpp"
+#include "decalcomp/normal_check.hpp"
 
 namespace decalcomp {
 
@@ -20,7 +21,7 @@ struct CompositeRequest {
     std::string scene;        // decal scene JSON
     std::string camera_json;  // optional sidecar; wins over the EXR header
     std::string output;       // EXR to write, or a folder (docs/cli.md: which files are written)
-    std::string preview;      // optional PNG: input albedo | output albedo
+    std::string preview;      // optional PNG: albedo (and lit normals) before | after
     std::string device;       // selector, see selectDevice()
     MappingOptions mapping;
     bool overwrite_input = false;
@@ -32,6 +33,7 @@ struct CompositeReport {
     std::string camera_source;
     std::optional<CameraSolveReport> camera_solve;  // when the camera was solved
     DepthCheck depth_check;                         // planar/radial verdict against the position pass
+    NormalCheck normal_check;                       // normal space/encoding against the depth pass
     ChannelMapping mapping;
     CompositeStats stats;
     std::size_t background_pixels = 0;
@@ -63,18 +65,29 @@ Camera resolveCamera(const ExrImage& image, const std::string& camera_json);
 // the verdict in both the G-buffer and the mapping (with a note).
 DepthCheck settleDepthConvention(GBuffer& gbuffer, ChannelMapping& mapping, const Camera& camera);
 
-// The attributes compositing writes back (today the albedo), and where: one output per input file
-// that holds their channels. `output` names the file when there is one such file, else a folder
+// Checks the normal pass's space and encoding against the geometry and, unless --normals was
+// given, adopts a clear verdict in both the G-buffer and the mapping (with a note).
+NormalCheck settleNormalEncoding(GBuffer& gbuffer, ChannelMapping& mapping, const Camera& camera);
+
+// Where compositing writes `attributes` (compositedAttributes(scene)) back: one output per input
+// file that holds their channels. `output` names the file when there is one such file, else a folder
 // (an existing one, or a path ending in '/'), where each keeps its input's file name. Throws
 // Error(Usage) when several files change and `output` is not a folder, or names collide.
-std::vector<Attribute> compositedAttributes();
 std::map<int, std::string> outputPaths(const std::vector<ExrImage>& files, const ChannelMapping& mapping,
+                                       const std::vector<Attribute>& attributes,
                                        const std::string& output);
+
+// One warning per attribute the decals change that the input has no channels for (it is left
+// out: compositing adds no channels).
+std::vector<std::string> missingAttributeWarnings(const std::vector<Attribute>& attributes, const ChannelMapping& mapping,
+                                                  const std::string& input);
 
 // Refuses (Error(Usage)) to write over the input unless allowed.
 void checkNotOverwritingInput(const std::string& input, const std::string& output, bool allowed);
 
-// Side-by-side sRGB PNG of the before and after albedo, written atomically.
-void writeAlbedoPreview(const GBuffer& before, const GBuffer& after, const std::string& path);
+// sRGB PNG preview: before | after albedo and, when the frames have a normal plane, a second row
+// before | after lit (albedo * Lambert, fixed camera-space light from the upper left; background
+// black), so normal-map decals are visible. `camera` takes world-space normals to camera space.
+void writePreview(const GBuffer& before, const GBuffer& after, const Camera& camera, const std::string& path);
 
 }  // namespace decalcomp

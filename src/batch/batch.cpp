@@ -178,6 +178,7 @@ public:
             const DepthCheck check = settleDepthConvention(gbuffer, mapping, *camera);
             if (check.performed || !gbuffer.has(Attribute::Position)) settle(gbuffer.depth_convention);
         }
+        settleNormalEncoding(gbuffer, mapping, *camera);
         evaluateMasks(files, mapping, scene_, gbuffer, nullptr);
         // Per-frame decals go through setScene, which also re-uploads the textures (a Compositor
         // call that replaces only the decals would save that; static scenes never pay it).
@@ -191,7 +192,7 @@ public:
             timings.kernels_ms += compositor.composite(gbuffer, *camera, CompositeOptions{request_.binned}).totalKernelMs();
         }
         StageTimer t{timings.store_s};
-        for (Attribute attribute : compositedAttributes())
+        for (Attribute attribute : compositedAttributes(scene_))
             if (gbuffer.has(attribute)) storeAttribute(files, mapping, attribute, gbuffer.planes.at(attribute));
     }
 

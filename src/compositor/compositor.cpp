@@ -82,6 +82,14 @@ std::vector<float> packMaskWeights(const GBuffer& frame, std::size_t count) {
 
 }  // namespace
 
+std::vector<Attribute> compositedAttributes(const DecalScene& scene) {
+    std::vector<Attribute> out = {Attribute::Albedo};
+    const std::array<bool, kDecalTargets> targets = sceneTargets(scene);
+    for (int t = 0; t < kDecalTargets; ++t)
+        if (targets[std::size_t(t)] && DecalTarget(t) != DecalTarget::Albedo) out.push_back(targetAttribute(DecalTarget(t)));
+    return out;
+}
+
 struct Compositor::State {
     cl::Kernel tile_bounds, decal_bounds, coarse_depth, coarse_mask, coarse_count, coarse_fill, bin_count, bin_fill, shade, occlusion;
     cl::Buffer texture_table, texels;

@@ -7,6 +7,7 @@
 #include "decalcomp/camera_solve.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/masks.hpp"
+#include "decalcomp/normal_check.hpp"
 #include "decalcomp/pipeline.hpp"
 #include "decalcomp/scene.hpp"
 
@@ -29,6 +30,18 @@ bool isFolder(const std::string& path) {
 }
 
 }  // namespace
+
+std::vector<std::string> missingAttributeWarnings(const std::vector<Attribute>& attributes, const ChannelMapping& mapping,
+                                                  const std::string& input) {
+    std::vector<std::string> warnings;
+    for (Attribute attribute : attributes)
+        if (!mapping.attributes.count(attribute))
+            warnings.push_back(fmt::format("{}: decals change {} but the input has no {} channels (profile {}); "
+                                           "left out (map them with --channel {}=...)",
+                                           input, attributeName(attribute), attributeName(attribute), mapping.profile,
+                                           attributeName(attribute)));
+    return warnings;
+}
 
 FrameFiles readFrameFiles(const std::string& input, const std::vector<std::string>& extra_inputs,
                           const std::map<Attribute, std::string>& pass_files) {
@@ -90,12 +103,29 @@ DepthCheck settleDepthConvention(GBuffer& gbuffer, ChannelMapping& mapping, cons
     return check;
 }
 
-std::vector<Attribute> compositedAttributes() { return {Attribute::Albedo}; }
+NormalCheck settleNormalEncoding(GBuffer& gbuffer, ChannelMapping& mapping, const Camera& camera) {
+    NormalCheck check = checkNormalEncoding(gbuffer, camera);
+    if (!gbuffer.has(Attribute::Normal)) return check;
+    mapping.notes.push_back("normal check: " + check.summary());
+    const NormalEncoding& current = gbuffer.normal_encoding;
+    if (!check.verdict || (check.verdict->space == current.space && check.verdict->packed == current.packed)) return check;
+    const std::string found =
+        fmt::format("{} space, {}", normalSpaceName(check.verdict->space), check.verdict->packed ? "packed" : "signed");
+    if (mapping.normal_encoding_explicit) {
+        mapping.notes.push_back("normals stay as given by --normals although the geometry suggests " + found);
+        return check;
+    }
+    gbuffer.normal_encoding = *check.verdict;
+    mapping.normal_space = normalSpaceName(check.verdict->space);
+    mapping.normal_encoding = check.verdict->packed ? "unsigned" : "signed";
+    mapping.notes.push_back("normals: " + found + " (checked against the depth pass)");
+    return check;
+}
 
 std::map<int, std::string> outputPaths(const std::vector<ExrImage>& files, const ChannelMapping& mapping,
-                                       const std::string& output) {
+                                       const std::vector<Attribute>& attributes, const std::string& output) {
     std::set<int> changed;
-    for (Attribute attribute : compositedAttributes())
+    for (Attribute attribute : attributes)
         if (auto it = mapping.attributes.find(attribute); it != mapping.attributes.end())
             for (const ChannelRef& ref : it->second) changed.insert(ref.file);
     std::map<int, std::string> paths;
@@ -141,8 +171,11 @@ CompositeReport compositeFile(const CompositeRequest& request) {
     if (!report.mapping.attributes.count(Attribute::Albedo))
         throw inputError(fmt::format("{}: no albedo channels found (profile {}); map them with --channel albedo=R,G,B",
                                      request.input, report.mapping.profile));
-    // Where each changed file goes, decided (and checked) before any work.
-    const std::map<int, std::string> outputs = outputPaths(files, report.mapping, request.output);
+    // What changes, and where each changed file goes, decided (and checked) before any work.
+    const DecalScene scene = loadScene(request.scene);
+    const std::vector<Attribute> attributes = compositedAttributes(scene);
+    report.warnings = missingAttributeWarnings(attributes, report.mapping, request.input);
+    const std::map<int, std::string> outputs = outputPaths(files, report.mapping, attributes, request.output);
     for (const auto& [file, path] : outputs)
         for (const ExrImage& input : files) checkNotOverwritingInput(input.path, path, request.overwrite_input);
 
@@ -152,7 +185,7 @@ CompositeReport compositeFile(const CompositeRequest& request) {
     if (solve.points > 0) report.camera_solve = solve;
     report.camera_source = camera.source;
     report.depth_check = settleDepthConvention(before, report.mapping, camera);
-    const DecalScene scene = loadScene(request.scene);
+    report.normal_check = settleNormalEncoding(before, report.mapping, camera);
     evaluateMasks(files, report.mapping, scene, before, &report.warnings);  // decal masks for this frame
 
     ComputeDevice device(request.device);
@@ -161,7 +194,7 @@ CompositeReport compositeFile(const CompositeRequest& request) {
     compositor.setScene(scene);
     GBuffer after = before;
     report.stats = compositor.composite(after, camera, CompositeOptions{request.binned});
-    for (Attribute attribute : compositedAttributes())
+    for (Attribute attribute : attributes)
         if (after.has(attribute)) storeAttribute(files, report.mapping, attribute, after.planes.at(attribute));
 
     // Everything goes to temporary names first, so a failed write leaves none of the outputs behind.
@@ -174,7 +207,7 @@ CompositeReport compositeFile(const CompositeRequest& request) {
     try {
         if (!request.preview.empty()) {
             preview_tmp = request.preview + ".partial.png";
-            writeAlbedoPreview(before, after, preview_tmp);
+            writePreview(before, after, camera, preview_tmp);
         }
         for (const auto& [file, path] : outputs) {
             const fs::path parent = fs::path(path).parent_path();

@@ -1,34 +1,59 @@
-// PNG preview: the input albedo beside the composited albedo, sRGB-encoded for viewing.
+// PNG preview, sRGB-encoded for viewing: the input albedo beside the composited albedo and, when
+// the frames have a normal plane, a second row with a simple lit view of each, so a person can see
+// what a normal-mapped decal did (the albedo row alone does not show the normals).
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
+#include <glm/glm.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
+#include "decalcomp/camera_solve.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/pipeline.hpp"
 #include "decalcomp/textures.hpp"
 
 namespace decalcomp {
 
-void writeAlbedoPreview(const GBuffer& before, const GBuffer& after, const std::string& path) {
+void writePreview(const GBuffer& before, const GBuffer& after, const Camera& camera, const std::string& path) {
     const int w = before.width, h = before.height, gap = 4;
-    const int out_w = 2 * w + gap;
-    std::vector<unsigned char> pixels(std::size_t(out_w) * h * 3, 0);
+    const bool lit = before.has(Attribute::Normal) && after.has(Attribute::Normal);
+    const int out_w = 2 * w + gap, out_h = lit ? 2 * h + gap : h;
+    std::vector<unsigned char> pixels(std::size_t(out_w) * out_h * 3, 0);
+    auto store = [&](int x, int y, int c, float v) {
+        const float encoded = linearToSrgb(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f));
+        pixels[(std::size_t(y) * out_w + x) * 3 + c] = (unsigned char)(encoded * 255.0f + 0.5f);
+    };
+    // Lambert with a fixed light from the upper left, in front of the scene, in camera space (-Z
+    // forward, +Y up), so it reads the same for any scene. World normals reach camera space by
+    // the inverse transpose of world_to_camera's 3x3 (its rotation when there is no scale).
+    const glm::vec3 light = glm::normalize(glm::vec3(-1.0f, 1.0f, 1.0f));
+    const float ambient = 0.2f;
+    const glm::mat3 to_camera = glm::mat3(glm::transpose(glm::inverse(glm::dmat3(camera.world_to_camera))));
     auto put = [&](const GBuffer& g, int x_offset) {
         const Plane& albedo = g.planes.at(Attribute::Albedo);
+        const Plane* normal = lit ? &g.planes.at(Attribute::Normal) : nullptr;
         for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-                for (int c = 0; c < 3; ++c) {
-                    const float v = c < albedo.components ? albedo.at(std::size_t(y) * w + x, c) : 0.0f;
-                    const float encoded = linearToSrgb(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f));
-                    pixels[(std::size_t(y) * out_w + x + x_offset) * 3 + c] = (unsigned char)(encoded * 255.0f + 0.5f);
-                }
+            for (int x = 0; x < w; ++x) {
+                const std::size_t p = std::size_t(y) * w + x;
+                glm::vec3 a(0.0f);
+                for (int c = 0; c < std::min(3, albedo.components); ++c) a[c] = albedo.at(p, c);
+                for (int c = 0; c < 3; ++c) store(x + x_offset, y, c, a[c]);
+                if (!normal || !isGeometryPixel(g, p)) continue;  // background stays black
+                glm::vec3 n(normal->at(p, 0), normal->at(p, 1), normal->at(p, 2));
+                if (g.normal_encoding.packed) n = n * 2.0f - 1.0f;
+                if (g.normal_encoding.space == NormalSpace::World) n = to_camera * n;
+                const float len = glm::length(n);
+                const float shade = len > 0.0f ? ambient + (1.0f - ambient) * std::max(0.0f, glm::dot(n / len, light))
+                                               : 0.0f;
+                for (int c = 0; c < 3; ++c) store(x + x_offset, y + h + gap, c, a[c] * shade);
+            }
     };
     put(before, 0);
     put(after, w + gap);
     auto out = OIIO::ImageOutput::create("png");
-    OIIO::ImageSpec spec(out_w, h, 3, OIIO::TypeDesc::UINT8);
+    OIIO::ImageSpec spec(out_w, out_h, 3, OIIO::TypeDesc::UINT8);
     if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close()) {
         std::error_code ec;
         std::filesystem::remove(path, ec);

@@ -95,10 +95,10 @@ bool applyDecal(const Decal& decal, const DecalValues& v, double strength, const
     auto wants = [&](DecalTarget t) { return has(t) && decalAffects(decal, t); };
     auto gain = [&](DecalTarget t) { return g * double(decal.effect(t).factor); };
     bool changed = false;
+    // a constant wins over the texture (which then only shapes the coverage)
     auto colourOf = [&](const std::optional<glm::dvec4>& texel, DecalTarget t) -> std::optional<glm::dvec3> {
-        if (texel) return straight(texel);
         if (decal.effect(t).value) return glm::dvec3(*decal.effect(t).value);
-        return std::nullopt;
+        return straight(texel);
     };
     if (wants(DecalTarget::Albedo))
         if (const auto value = colourOf(v.albedo, DecalTarget::Albedo)) {
@@ -133,10 +133,10 @@ bool applyDecal(const Decal& decal, const DecalValues& v, double strength, const
         const auto [target, slot] = scalars[k];
         if (!wants(target)) continue;
         std::optional<double> value;
-        if (v.orm) {
-            if (orm) value = (*orm)[k];
-        } else if (decal.effect(target).value) {
+        if (decal.effect(target).value) {
             value = double(decal.effect(target).value->r);
+        } else if (orm) {
+            value = (*orm)[k];
         }
         if (!value) continue;
         *slot = blend(*slot, *value, gain(target), decal.effect(target).op);

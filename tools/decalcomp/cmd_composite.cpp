@@ -61,6 +61,7 @@ Command addCompositeCommand(CLI::App& app) {
             std::cout << "camera solve: " << report.camera_solve->summary() << fmt::format(
                 ", near {:.6g}, far {:.6g}\n", report.camera_solve->near_plane, report.camera_solve->far_plane);
         if (report.depth_check.performed) std::cout << "depth check: " << report.depth_check.summary() << "\n";
+        if (report.normal_check.performed) std::cout << "normal check: " << report.normal_check.summary() << "\n";
     };
 }
 

@@ -98,9 +98,14 @@ void printInfo(const InfoFlags& f) {
     if (gbuffer && camera) {
         const DepthCheck check = settleDepthConvention(*gbuffer, mapping, *camera);
         std::cout << "depth check: " << check.summary() << "\n";
+        if (gbuffer->has(Attribute::Normal))
+            std::cout << "normal check: " << settleNormalEncoding(*gbuffer, mapping, *camera).summary() << "\n";
     }
     std::cout << "depth convention: " << depthConventionName(mapping.depth_convention)
               << (mapping.reversed_z ? " (reversed-z)" : "") << "\n";
+    if (mapping.attributes.count(Attribute::Normal))
+        std::cout << "normals: " << mapping.normal_space << " space, "
+                  << (mapping.normal_encoding == "unsigned" ? "packed" : "signed") << "\n";
 }
 
 }  // namespace

@@ -24,6 +24,18 @@ void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<s
     command.add_option("--depth", depth_flag, "Depth convention: planar, radial, ndc, position (default: profile's)")
         ->check(CLI::IsMember({"planar", "radial", "ndc", "position"}));
     command.add_flag("--reversed-z", options.reversed_z, "ndc depth is reversed (1 at the near plane)");
+    command
+        .add_option_function<std::string>(
+            "--normals",
+            [&options](const std::string& value) {
+                const auto comma = value.find(',');
+                options.normal_space = value.substr(0, comma);
+                const bool packed = comma != std::string::npos && value.substr(comma + 1) == "packed";
+                options.normal_encoding = packed ? "unsigned" : "signed";  // the profiles' word for packed
+            },
+            "Normal pass space and encoding: world|camera[,signed|packed] (default: the profile's, checked "
+            "against the depth pass)")
+        ->check(CLI::IsMember({"world", "camera", "world,signed", "world,packed", "camera,signed", "camera,packed"}));
 }
 
 void finishMappingOptions(MappingOptions& options, const std::vector<std::string>& channel_flags,
