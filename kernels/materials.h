@@ -50,10 +50,10 @@ inline float3 dc_combine_normals(float3 b, float3 d, int mode) {
  * the plane of n; false when the image's right direction is (nearly) along n. */
 inline bool dc_tangent_frame(float3 n, float3 right, float3 up, float3* t, float3* b) {
     const float3 tt = right - n * dot(n, right);
-    if (!(length(tt) > 1e-4f * length(right))) return false;
+    if (!(length(tt) > 1e-2f * length(right))) return false;
     *t = normalize(tt);
     const float3 bb = up - n * dot(n, up) - *t * dot(*t, up);
-    if (!(length(bb) > 1e-4f * length(up))) return false;
+    if (!(length(bb) > 1e-2f * length(up))) return false;
     *b = normalize(bb);
     return true;
 }

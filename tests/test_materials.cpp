@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <random>
 #include <sstream>
@@ -168,7 +170,8 @@ struct PlaneReport {
 // Kernel output against the reference for one material plane; normals as the angle between the
 // decoded world normals (radians), others as |difference| / (1 + |reference|).
 PlaneReport comparePlane(const GBuffer& input, const Camera& camera, const GBuffer& output,
-                         const reference::ShadeResult& ref, Attribute a, double tolerance) {
+                         const reference::ShadeResult& ref, Attribute a, double tolerance,
+                         const std::vector<std::uint8_t>* skip = nullptr) {
     PlaneReport r;
     const Plane& in = input.planes.at(a);
     const Plane& out = output.planes.at(a);
@@ -177,7 +180,7 @@ PlaneReport comparePlane(const GBuffer& input, const Camera& camera, const GBuff
         bool changed = false;
         for (int c = 0; c < in.components; ++c) changed |= !sameBits(expected.at(i, c), in.at(i, c));
         r.changed += changed;
-        if (ref.ambiguous[i]) continue;
+        if (ref.ambiguous[i] || (skip && (*skip)[i])) continue;
         ++r.compared;
         double error = 0;
         if (a == Attribute::Normal) {
@@ -228,6 +231,58 @@ GBuffer compositeOnce(const GBuffer& frame, const Camera& camera, const DecalSce
 // ---------------------------------------------------------------------------------------------
 // 1. Kernel vs reference, every material plane, random texture sets.
 
+// Pixels where float rounding is amplified past what reference::shade's `ambiguous` flags (found
+// by sweeping 60 seeds; each was a legitimate float-vs-double divergence, not a semantic one):
+// - ill_all: within 5% of a cube decal's centre the lookup direction's error grows as 1/r (a
+//   linear lookup moved by 1e-3 of the face on ndc depth); and nearest frustum lookups near a
+//   texel edge at 10x the rounding margin (s = x / (2 z tan) amplifies the local point's error).
+// - ill_normal: a normal-mapping decal whose tangent frame is nearly degenerate (|t_raw| or
+//   |b_raw| below 0.2% of the image axis: the surface almost contains the decal's right or up),
+//   where the float frame is measurably non-orthonormal (5e-3 rad seen at 1.5e-4).
+struct IllConditioned {
+    std::vector<std::uint8_t> all, normal;
+};
+IllConditioned illConditioned(const RandomFrame& f, const DecalScene& scene) {
+    const GBuffer& g = f.gbuffer;
+    IllConditioned out;
+    DecalScene frustums = scene;  // ambiguity is per decal: the nearest frustums' alone at 10x margin
+    std::erase_if(frustums.decals,
+                  [](const Decal& d) { return d.kind != DecalKind::Frustum || d.filter != TextureFilter::Nearest; });
+    out.all = reference::shade(g, f.camera, frustums, 10.0 * roundingMargin(g)).ambiguous;
+    out.normal.assign(g.pixelCount(), 0);
+    std::vector<glm::dmat4> to_local;
+    for (const Decal& d : scene.decals) to_local.push_back(glm::inverse(d.world_matrix));
+    const Plane& np = g.planes.at(Attribute::Normal);
+    for (int y = 0; y < g.height; ++y)
+        for (int x = 0; x < g.width; ++x) {
+            const std::size_t i = std::size_t(y) * std::size_t(g.width) + std::size_t(x);
+            const auto p = reference::pixelWorldPoint(g, f.camera, x, y);
+            if (!p) continue;
+            const glm::dvec3 n = glm::normalize(glm::dvec3(np.at(i, 0), np.at(i, 1), np.at(i, 2)));
+            for (std::size_t k = 0; k < scene.decals.size(); ++k) {
+                const Decal& d = scene.decals[k];
+                const glm::dvec3 l(to_local[k] * glm::dvec4(*p, 1.0));
+                if (!reference::insideDecal(d, l)) continue;
+                if (d.kind == DecalKind::Cube && glm::length(l) < 0.025) out.all[i] = 1;
+                if (d.normal_texture < 0 || !(d.effect(DecalTarget::Normal).factor > 0.0f)) continue;
+                // the frame as the first normal-mapping decal builds it (later ones see a changed
+                // normal, close enough for this threshold); cube faces use any two local axes: check all three
+                const glm::dmat3 axes(d.world_matrix);
+                const glm::dvec3 z = d.normal_blend == NormalBlend::Replace
+                                         ? (d.kind == DecalKind::Box || d.kind == DecalKind::Volume
+                                                ? glm::normalize(axes[2])
+                                                : glm::normalize(glm::dvec3(d.world_matrix[3]) - *p))
+                                         : n;
+                for (int a = 0; a < (d.kind == DecalKind::Cube ? 3 : 2); ++a)
+                    if (glm::length(axes[a] - z * glm::dot(z, axes[a])) < 2e-3 * glm::length(axes[a])) out.normal[i] = 1;
+                const glm::dvec3 t = glm::normalize(axes[0] - z * glm::dot(z, axes[0]));
+                const glm::dvec3 b = axes[1] - z * glm::dot(z, axes[1]) - t * glm::dot(t, axes[1]);
+                if (glm::length(b) < 2e-3 * glm::length(axes[1])) out.normal[i] = 1;
+            }
+        }
+    return out;
+}
+
 class MaterialScenes : public ::testing::TestWithParam<std::uint32_t> {};
 
 TEST_P(MaterialScenes, EveryMaterialPlaneMatchesReference) {
@@ -240,11 +295,25 @@ TEST_P(MaterialScenes, EveryMaterialPlaneMatchesReference) {
     std::size_t ambiguous = 0;
     for (auto a : ref.ambiguous) ambiguous += a;
     EXPECT_LT(double(ambiguous), test::ambiguousShare(f.gbuffer) * pixels) << "too many boundary pixels";
+    const IllConditioned ill = illConditioned(f, scene);
+    std::vector<std::uint8_t> ill_normal = ill.normal;
+    std::size_t ill_count = 0;
+    for (std::size_t i = 0; i < ill_normal.size(); ++i) {
+        ill_normal[i] |= ill.all[i];
+        ill_count += ill_normal[i] && !ref.ambiguous[i];
+    }
     for (Attribute a : kMaterialPlanes) {
         ASSERT_TRUE(out.has(a)) << attributeName(a);
-        const PlaneReport r = comparePlane(f.gbuffer, f.camera, out, ref, a, planeTolerance(f.gbuffer, a));
+        const PlaneReport r = comparePlane(f.gbuffer, f.camera, out, ref, a, planeTolerance(f.gbuffer, a),
+                                           a == Attribute::Normal ? &ill_normal : &ill.all);
+        if (std::getenv("MATERIALS_VERBOSE"))
+            std::printf("seed %u %s: compared %zu changed %zu max error %g (tolerance %g), %zux%d px, ill %zu\n", seed,
+                        attributeName(a), r.compared, r.changed, r.max_error, planeTolerance(f.gbuffer, a),
+                        std::size_t(f.gbuffer.width), f.gbuffer.height, ill_count);
         EXPECT_EQ(r.mismatched, 0u) << "seed " << seed << " plane " << attributeName(a) << ": max error "
                                     << r.max_error << " over " << r.compared << " pixels; first " << r.first_mismatch;
+        EXPECT_GT(double(r.compared), 0.25 * pixels) << "seed " << seed << " plane " << attributeName(a)
+                                                     << ": too few pixels compared (ambiguous or ill-conditioned)";
         EXPECT_GT(double(r.changed), 0.03 * pixels) << "seed " << seed << " plane " << attributeName(a)
                                                     << " barely changed: the comparison would be hollow";
     }
@@ -536,7 +605,7 @@ TEST(MaterialAnalytic, TargetMissingFromFrameIsSkipped) {
     EXPECT_FALSE(out.has(Attribute::Metallic));
     for (std::size_t i : a.inside) {
         expectNear3(pixelVec3(out, Attribute::Albedo, i), {0.5, 0.5, 0.5}, 1e-5, "albedo over");
-        EXPECT_NEAR(out.planes.at(Attribute::Roughness).at(i, 0), 0.5 * 0.5 + 0.1 * 0.5, 1e-6);
+        EXPECT_NEAR(out.planes.at(Attribute::Roughness).at(i, 0), 0.1, 1e-6);  // replace
         if (HasFailure()) return;
     }
     // the reference agrees and skips the missing planes too
@@ -697,9 +766,9 @@ TEST(MaterialReference, UdnWhiteoutReplaceClosedForms) {
     expectNear3(reference::combineNormals({0, 0, 1}, d, NormalBlend::Whiteout), d, 1e-12, "whiteout");
     // a tilted base: b = (0.6, 0, 0.8), d = (0, 0.6, 0.8)
     const glm::dvec3 b(0.6, 0.0, 0.8), e(0.0, 0.6, 0.8);
-    // UDN: (0.6, 0.6, 0.8) / sqrt(1.36); whiteout: (0.6, 0.6, 0.64) / sqrt(0.9296)
+    // UDN: (0.6, 0.6, 0.8) / sqrt(1.36); whiteout: (0.6, 0.6, 0.64) / sqrt(1.1296)
     expectNear3(reference::combineNormals(b, e, NormalBlend::Udn), glm::dvec3(0.6, 0.6, 0.8) / std::sqrt(1.36), 1e-12, "udn tilted");
-    expectNear3(reference::combineNormals(b, e, NormalBlend::Whiteout), glm::dvec3(0.6, 0.6, 0.64) / std::sqrt(0.9296), 1e-12,
+    expectNear3(reference::combineNormals(b, e, NormalBlend::Whiteout), glm::dvec3(0.6, 0.6, 0.64) / std::sqrt(1.1296), 1e-12,
                 "whiteout tilted");
     expectNear3(reference::combineNormals(b, e, NormalBlend::Replace), e, 0.0, "replace");
     // RNM of the same pair: rotation by 36.87 degrees about +Y applied to e

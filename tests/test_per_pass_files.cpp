@@ -30,7 +30,7 @@ void gen(const std::string& arguments, const std::string& output, const std::str
 
 test::CommandResult composite(const std::string& inputs, const std::string& camera, const std::string& output,
                               const std::string& extra = "") {
-    return test::runCli("composite " + inputs + " --decals " + shellQuote(test::dataPath("sample/scene.json")) +
+    return test::runCli("composite " + inputs + " --decals " + shellQuote(test::dataPath("sample/boxes.json")) +
                         " --camera " + shellQuote(camera) + " --device cpu -o " + shellQuote(output) + " " + extra);
 }
 

@@ -110,10 +110,10 @@ bool applyDecal(const Decal& decal, const DecalValues& v, double strength, const
             if (const auto detail = normalDetail(*rgb, decal.normal_strength)) {
                 const glm::dvec3 n = decal.normal_blend == NormalBlend::Replace ? v.facing : surface_normal;
                 const glm::dvec3 t_raw = v.right - n * glm::dot(n, v.right);
-                if (glm::length(t_raw) > 1e-4 * glm::length(v.right)) {
+                if (glm::length(t_raw) > 1e-2 * glm::length(v.right)) {
                     const glm::dvec3 t = glm::normalize(t_raw);
                     const glm::dvec3 b_raw = v.up - n * glm::dot(n, v.up) - t * glm::dot(t, v.up);
-                    if (glm::length(b_raw) > 1e-4 * glm::length(v.up)) {
+                    if (glm::length(b_raw) > 1e-2 * glm::length(v.up)) {
                         const glm::dvec3 b = glm::normalize(b_raw);
                         const glm::dvec3 base(glm::dot(s.normal, t), glm::dot(s.normal, b), glm::dot(s.normal, n));
                         const glm::dvec3 r = combineNormals(base, *detail, decal.normal_blend);

@@ -82,6 +82,7 @@ struct Options {
     std::uint32_t seed = 1;
     std::string modes = "both";  // both, binned, unbinned
     std::string kind = "box";    // decal kind of every decal
+    bool materials = false;      // full texture sets: normal maps and ORM into normal/roughness/metallic
 };
 
 Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camera, int decals, bool binned,
@@ -236,6 +237,9 @@ int main(int argc, char** argv) {
     app.add_option("--textures", opt.texture_count, "procedural textures")->check(CLI::PositiveNumber);
     app.add_option("--texture-size", opt.texture_size, "texture edge, texels")->check(CLI::PositiveNumber);
     app.add_option("--seed", opt.seed, "decal scatter seed");
+    app.add_flag("--materials", opt.materials,
+                 "every decal also carries a normal map and an ORM map, written into the frame's normal, "
+                 "roughness and metallic planes (default: albedo only)");
     app.add_option("--kind", opt.kind, "decal kind of every decal")
         ->check(CLI::IsMember({"box", "volume", "frustum", "cube"}));
     bool list = false;
@@ -300,12 +304,20 @@ int main(int argc, char** argv) {
                 const DecalKind kinds[] = {DecalKind::Box, DecalKind::Volume, DecalKind::Frustum, DecalKind::Cube};
                 for (DecalKind k : kinds)
                     if (opt.kind == decalKindName(k)) synth::convertDecals(decal_scene, k, opt.seed);
+                if (opt.materials)  // the procedural textures stand in for normal and ORM maps
+                    for (Decal& d : decal_scene.decals) {
+                        d.normal_texture = d.albedo_texture;
+                        d.orm_texture = (d.albedo_texture + 1) % int(decal_scene.textures.size());
+                    }
                 compositor.setScene(decal_scene);
-                // The compositor reads only depth and albedo here; drop the rest to keep copies cheap.
+                // Keep only the planes the compositor reads, so frame copies stay cheap.
                 GBuffer frame = full;
+                auto used = [&](Attribute a) {
+                    if (a == Attribute::Depth || a == Attribute::Albedo) return true;
+                    return opt.materials && (a == Attribute::Normal || a == Attribute::Roughness || a == Attribute::Metallic);
+                };
                 for (auto it = frame.planes.begin(); it != frame.planes.end();)
-                    it = (it->first == Attribute::Depth || it->first == Attribute::Albedo) ? std::next(it)
-                                                                                             : frame.planes.erase(it);
+                    it = used(it->first) ? std::next(it) : frame.planes.erase(it);
                 for (bool binned : {true, false}) {
                     if ((binned && opt.modes == "unbinned") || (!binned && opt.modes == "binned")) continue;
                     fmt::print(info, "  {}x{} {:>5} decals {:<8} ...", size.width, size.height, count,
