@@ -37,20 +37,6 @@ inline int dc_occlusion_index(__global const DcDecal* d, DcMapTexel t) {
     return d->occlusion_map + (t.face * d->occlusion_height + t.j) * d->occlusion_width + t.i;
 }
 
-/* Direction through (s, t) of a cube face: the inverse of dc_cube_face_st (s, t may lie past the
- * face's edge; the direction then belongs to a neighbouring face). */
-inline float3 dc_cube_face_direction(int face, float s, float t) {
-    const float sc = 2.0f * s - 1.0f, tc = 2.0f * t - 1.0f;
-    switch (face) {
-        case 0: return (float3)(1.0f, -tc, -sc);
-        case 1: return (float3)(-1.0f, -tc, sc);
-        case 2: return (float3)(sc, 1.0f, tc);
-        case 3: return (float3)(sc, -1.0f, -tc);
-        case 4: return (float3)(sc, -tc, 1.0f);
-        default: return (float3)(-sc, -tc, -1.0f);
-    }
-}
-
 /* The texel (di, dj) steps from t. A frustum map ends at its edges (false); on a cube the step
  * past a face's edge continues on the neighbouring face through the texel centre's direction. */
 inline bool dc_occlusion_step(__global const DcDecal* d, DcMapTexel t, int di, int dj, DcMapTexel* out) {
@@ -61,7 +47,7 @@ inline bool dc_occlusion_step(__global const DcDecal* d, DcMapTexel t, int di, i
     if (out->i >= 0 && out->j >= 0 && out->i < w && out->j < h) return true;
     if (d->kind != DC_KIND_CUBE) return false;
     const float3 dir =
-        dc_cube_face_direction(t.face, ((float)out->i + 0.5f) / (float)w, ((float)out->j + 0.5f) / (float)h);
+        dc_cube_face_dir(t.face, 2.0f * ((float)out->i + 0.5f) / (float)w - 1.0f, 2.0f * ((float)out->j + 0.5f) / (float)h - 1.0f);
     out->face = dc_cube_face(dir);
     const float2 st = dc_cube_face_st(dir, out->face);
     out->i = clamp((int)floor(st.x * (float)w), 0, w - 1);
