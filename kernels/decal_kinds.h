@@ -3,6 +3,11 @@
 #ifndef DECALCOMP_DECAL_KINDS_H
 #define DECALCOMP_DECAL_KINDS_H
 
+/* For the per-decal functions: NVIDIA's compiler otherwise keeps them out of line and passes the
+ * structs through stack memory for every pixel-decal pair (3.7x slower unbinned shading at
+ * 1080p, docs/benchmarks.md). */
+#define DC_INLINE __attribute__((always_inline)) inline
+
 inline float dc_ramp_down(float x, float full, float none) { return clamp((none - x) / (none - full), 0.0f, 1.0f); }
 
 /* Angle fade against a unit direction the receiving surface should face. Back faces get 0. */
@@ -38,83 +43,98 @@ typedef struct {
     float3 facing; /* camera-space direction a receiving surface faces */
 } DcLookup;
 
-/* Fills `lk` for the decal at camera-space point p. `normal` is the surface normal (used only
- * when `has_normal`); p_dx and p_dy are the footprint points (used when `footprint`). */
-inline DcLookup dc_decal_lookup(__global const DcDecal* d, float3 p, float3 normal, int has_normal, float3 p_dx,
-                                float3 p_dy, int footprint) {
+/* Texture coordinates of a decal-local point: (s, t, r) for boxes and volumes, (s, t) on the
+ * frustum's image or on cube face `face` (even past its edge, for footprints). */
+inline float3 dc_decal_coord(__global const DcDecal* d, float3 l, int face) {
+    if (d->kind == DC_KIND_FRUSTUM) return (float3)(dc_frustum_st(d, l), 0.0f);
+    if (d->kind == DC_KIND_CUBE) return (float3)(dc_cube_face_st(l, face), 0.0f);
+    return (float3)(l.x + 0.5f, 0.5f - l.y, l.z + 0.5f);
+}
+
+/* The lookup for the decal at camera-space point p. `normal` is the surface normal (used only
+ * when `has_normal`); p_dx and p_dy are the footprint points (used when `footprint`). The
+ * rejection comes first and costs one transform: most pixel-decal pairs end there. */
+DC_INLINE DcLookup dc_decal_lookup(__global const DcDecal* d, float3 p, float3 normal, int has_normal, float3 p_dx,
+                                   float3 p_dy, int footprint) {
     DcLookup lk;
     lk.fade = 0.0f;
     lk.face = 0;
-    lk.has_footprint = footprint && d->filter == DC_FILTER_MIP;
     const float3 l = dc_affine_global(d->camera_to_local, p);
-    const float3 lx = lk.has_footprint ? dc_affine_global(d->camera_to_local, p_dx) : l;
-    const float3 ly = lk.has_footprint ? dc_affine_global(d->camera_to_local, p_dy) : l;
     float fade = 1.0f;
     if (d->kind == DC_KIND_BOX || d->kind == DC_KIND_VOLUME) {
         if (!(fabs(l.x) <= 0.5f && fabs(l.y) <= 0.5f && fabs(l.z) <= 0.5f)) return lk;
         if (d->axis_fade > 0.0f) fade *= clamp((0.5f - fabs(l.z)) / (0.5f * d->axis_fade), 0.0f, 1.0f);
         lk.facing = vload3(0, d->facing_axis);
-        lk.coord = (float3)(l.x + 0.5f, 0.5f - l.y, l.z + 0.5f);
-        lk.coord_dx = (float3)(lx.x + 0.5f, 0.5f - lx.y, lx.z + 0.5f);
-        lk.coord_dy = (float3)(ly.x + 0.5f, 0.5f - ly.y, ly.z + 0.5f);
     } else if (d->kind == DC_KIND_FRUSTUM) {
         const float dist = -l.z;
         const float half_h = dist * d->tan_half_fov_y, half_w = half_h * d->aspect;
         if (!(dist >= d->near_plane && dist <= d->far_plane && fabs(l.x) <= half_w && fabs(l.y) <= half_h)) return lk;
         if (d->distance_fade[1] > 0.0f) fade *= dc_ramp_down(dist, d->distance_fade[0], d->distance_fade[1]);
         lk.facing = normalize(dc_decal_origin(d) - p);
-        lk.coord = (float3)(dc_frustum_st(d, l), 0.0f);
-        lk.coord_dx = (float3)(dc_frustum_st(d, lx), 0.0f);
-        lk.coord_dy = (float3)(dc_frustum_st(d, ly), 0.0f);
     } else { /* DC_KIND_CUBE */
         const float r = length(l);
         if (!(r <= 0.5f) || !(r > 0.0f)) return lk;
         fade *= clamp(1.0f - r / 0.5f, 0.0f, 1.0f);
         lk.facing = normalize(dc_decal_origin(d) - p);
         lk.face = dc_cube_face(l);
-        lk.coord = (float3)(dc_cube_face_st(l, lk.face), 0.0f);
-        /* the footprint's directions measured on this pixel's face, even past its edge */
-        lk.coord_dx = (float3)(dc_cube_face_st(lx, lk.face), 0.0f);
-        lk.coord_dy = (float3)(dc_cube_face_st(ly, lk.face), 0.0f);
     }
     if (has_normal && d->angle_fade[1] > 0.0f) fade *= dc_angle_fade(d, normal, lk.facing);
+    lk.coord = dc_decal_coord(d, l, lk.face);
+    lk.has_footprint = footprint && d->filter == DC_FILTER_MIP;
+    lk.coord_dx = lk.coord_dy = lk.coord;
+    if (lk.has_footprint) {
+        lk.coord_dx = dc_decal_coord(d, dc_affine_global(d->camera_to_local, p_dx), lk.face);
+        lk.coord_dy = dc_decal_coord(d, dc_affine_global(d->camera_to_local, p_dy), lk.face);
+    }
     lk.fade = fade;
     return lk;
 }
 
 /* One texture of the decal's set at the lookup's coordinates, with the decal's filter;
  * premultiplied RGBA. Mip levels come from the footprint mapped the same way. */
-inline float4 dc_lookup_texel(__global const DcDecal* d, const DcLookup* lk, __global const DcTexture* textures,
-                              __global const float4* texels, int index) {
-    const float3 c = lk->coord;
+DC_INLINE float4 dc_lookup_texel(__global const DcDecal* d, DcLookup lk, __global const DcTexture* textures,
+                                 __global const float4* texels, int index) {
+    const float3 c = lk.coord;
     if (d->kind == DC_KIND_VOLUME) {
         if (d->filter != DC_FILTER_MIP) return dc_sample_3d(texels, textures[index], c.x, c.y, c.z, d->filter);
         /* quadrilinear in the volume's 3D mip chain; (s, t, r) moves with local space up to a sign */
-        const float lod = lk->has_footprint ? dc_lod_volume(c, lk->coord_dx, lk->coord_dy, textures[index]) : 1e9f;
+        const float lod = lk.has_footprint ? dc_lod_volume(c, lk.coord_dx, lk.coord_dy, textures[index]) : 1e9f;
         return dc_sample_chain(texels, textures, index, c.x, c.y, c.z, 0, lod, DC_LEVEL_VOLUME);
     }
     const int cube = d->kind == DC_KIND_CUBE;
     if (d->filter == DC_FILTER_MIP) {
-        const float lod = lk->has_footprint ? dc_lod(c.xy, lk->coord_dx.xy, lk->coord_dy.xy, textures[index]) : 1e9f;
-        return dc_sample_chain(texels, textures, index, c.x, c.y, 0.0f, lk->face, lod, cube ? DC_LEVEL_CUBE : DC_LEVEL_SLICE);
+        const float lod = lk.has_footprint ? dc_lod(c.xy, lk.coord_dx.xy, lk.coord_dy.xy, textures[index]) : 1e9f;
+        return dc_sample_chain(texels, textures, index, c.x, c.y, 0.0f, lk.face, lod,
+                               cube ? DC_LEVEL_CUBE : DC_LEVEL_SLICE);
     }
-    return cube ? dc_sample_cube_face(texels, textures[index], c.x, c.y, lk->face, d->filter)
+    return cube ? dc_sample_cube_face(texels, textures[index], c.x, c.y, lk.face, d->filter)
                 : dc_sample_slice(texels, textures[index], c.x, c.y, 0, d->filter);
 }
 
 /* Camera-space directions in which s grows and t falls (the image's right and up) at the
  * lookup: the decal's local X and Y, or a cube face's axes (faces seen from inside are
  * mirrored, so the frame built from them may be left-handed, as the image is). */
-inline void dc_decal_image_axes(__global const DcDecal* d, const DcLookup* lk, float3* right, float3* up) {
+inline void dc_decal_image_axes(__global const DcDecal* d, DcLookup lk, float3* right, float3* up) {
     float3 r = (float3)(1.0f, 0.0f, 0.0f), u = (float3)(0.0f, 1.0f, 0.0f);
     if (d->kind == DC_KIND_CUBE) {
-        switch (lk->face) {
-            case 0: r = (float3)(0.0f, 0.0f, -1.0f); break;
-            case 1: r = (float3)(0.0f, 0.0f, 1.0f); break;
-            case 2: u = (float3)(0.0f, 0.0f, -1.0f); break;
-            case 3: u = (float3)(0.0f, 0.0f, 1.0f); break;
-            case 4: break;
-            default: r = (float3)(-1.0f, 0.0f, 0.0f); break;
+        switch (lk.face) {
+            case 0:
+                r = (float3)(0.0f, 0.0f, -1.0f);
+                break;
+            case 1:
+                r = (float3)(0.0f, 0.0f, 1.0f);
+                break;
+            case 2:
+                u = (float3)(0.0f, 0.0f, -1.0f);
+                break;
+            case 3:
+                u = (float3)(0.0f, 0.0f, 1.0f);
+                break;
+            case 4:
+                break;
+            default:
+                r = (float3)(-1.0f, 0.0f, 0.0f);
+                break;
         }
     }
     *right = dc_local_vector(d, r);

@@ -12,10 +12,14 @@ typedef struct {
 
 inline float3 dc_blend3(float3 a, float3 v, float f, float g, int op) {
     switch (op) {
-        case DC_OP_MULTIPLY: return a * (1.0f - f) + a * v * f;
-        case DC_OP_ADD: return a + v * g;
-        case DC_OP_REPLACE: return v;
-        default: return a * (1.0f - f) + v * f;
+        case DC_OP_MULTIPLY:
+            return a * (1.0f - f) + a * v * f;
+        case DC_OP_ADD:
+            return a + v * g;
+        case DC_OP_REPLACE:
+            return v;
+        default:
+            return a * (1.0f - f) + v * f;
     }
 }
 
@@ -34,9 +38,12 @@ inline bool dc_straight(float4 texel, float3* out) {
  * normal): reoriented normal mapping, UDN, whiteout, or d alone. */
 inline float3 dc_combine_normals(float3 b, float3 d, int mode) {
     switch (mode) {
-        case DC_NORMAL_UDN: return normalize((float3)(b.x + d.x, b.y + d.y, b.z));
-        case DC_NORMAL_WHITEOUT: return normalize((float3)(b.x + d.x, b.y + d.y, b.z * d.z));
-        case DC_NORMAL_REPLACE: return d;
+        case DC_NORMAL_UDN:
+            return normalize((float3)(b.x + d.x, b.y + d.y, b.z));
+        case DC_NORMAL_WHITEOUT:
+            return normalize((float3)(b.x + d.x, b.y + d.y, b.z * d.z));
+        case DC_NORMAL_REPLACE:
+            return d;
         default: {
             const float3 t = b + (float3)(0.0f, 0.0f, 1.0f);
             if (!(t.z > 1e-6f)) return d; /* base points straight into the surface */
@@ -58,26 +65,27 @@ inline bool dc_tangent_frame(float3 n, float3 right, float3 up, float3* t, float
     return true;
 }
 
-/* The decal's normal map texel applied to s->normal with blend factor f. `surface_normal` is
+/* The decal's normal map texel applied to s.normal with blend factor f. `surface_normal` is
  * the G-buffer's own normal (camera space), the frame's z unless the mode is replace. */
-inline void dc_apply_normal_map(__global const DcDecal* d, const DcLookup* lk, float4 texel, float3 surface_normal,
-                                float f, DcSurface* s) {
+DC_INLINE DcSurface dc_apply_normal_map(__global const DcDecal* d, DcLookup lk, float4 texel, float3 surface_normal,
+                                        float f, DcSurface s) {
     float3 rgb;
-    if (!dc_straight(texel, &rgb)) return;
+    if (!dc_straight(texel, &rgb)) return s;
     float3 detail = rgb * 2.0f - 1.0f;
     detail.xy *= d->normal_strength;
-    if (!(length(detail) > 1e-6f)) return;
+    if (!(length(detail) > 1e-6f)) return s;
     detail = normalize(detail);
-    const float3 n = d->normal_blend == DC_NORMAL_REPLACE ? lk->facing : surface_normal;
+    const float3 n = d->normal_blend == DC_NORMAL_REPLACE ? lk.facing : surface_normal;
     float3 right, up, t, b;
     dc_decal_image_axes(d, lk, &right, &up);
-    if (!dc_tangent_frame(n, right, up, &t, &b)) return;
-    const float3 base = (float3)(dot(s->normal, t), dot(s->normal, b), dot(s->normal, n));
+    if (!dc_tangent_frame(n, right, up, &t, &b)) return s;
+    const float3 base = (float3)(dot(s.normal, t), dot(s.normal, b), dot(s.normal, n));
     const float3 r = dc_combine_normals(base, detail, d->normal_blend);
     const float3 mapped = t * r.x + b * r.y + n * r.z;
-    const float3 mixed = s->normal * (1.0f - f) + mapped * f;
-    s->normal = length(mixed) > 1e-6f ? normalize(mixed) : mapped;
-    s->normal_changed = 1;
+    const float3 mixed = s.normal * (1.0f - f) + mapped * f;
+    s.normal = length(mixed) > 1e-6f ? normalize(mixed) : mapped;
+    s.normal_changed = 1;
+    return s;
 }
 
 /* A colour target's value: the decal's constant when it has one (the texture then only shapes
@@ -96,16 +104,17 @@ inline bool dc_targets(__constant const DcFrame* frame, __global const DcDecal* 
 }
 
 /* Blends one decal into the surface. `weight` is opacity times mask; `surface_normal` the
- * G-buffer's normal in camera space (valid when the frame has normals). */
-inline void dc_apply_decal(__constant const DcFrame* frame, __global const DcDecal* d, const DcLookup* lk,
-                           __global const DcTexture* textures, __global const float4* texels, float weight,
-                           float3 surface_normal, DcSurface* s) {
+ * G-buffer's normal in camera space (valid when the frame has normals). `albedo_only` (a constant
+ * in the albedo-only kernel) compiles the other targets away. */
+DC_INLINE DcSurface dc_apply_decal(__constant const DcFrame* frame, __global const DcDecal* d, DcLookup lk,
+                                   __global const DcTexture* textures, __global const float4* texels, float weight,
+                                   float3 surface_normal, DcSurface s, const bool albedo_only) {
     const bool want_albedo = dc_targets(frame, d, DC_TARGET_ALBEDO);
-    const bool want_normal = dc_targets(frame, d, DC_TARGET_NORMAL) && d->normal_texture >= 0;
-    const bool want_orm = d->orm_texture >= 0 && (dc_targets(frame, d, DC_TARGET_ROUGHNESS) ||
-                                                  dc_targets(frame, d, DC_TARGET_METALLIC) ||
-                                                  dc_targets(frame, d, DC_TARGET_AO));
-    const bool want_emission = dc_targets(frame, d, DC_TARGET_EMISSION);
+    const bool want_normal = !albedo_only && dc_targets(frame, d, DC_TARGET_NORMAL) && d->normal_texture >= 0;
+    const bool want_orm = !albedo_only && d->orm_texture >= 0 &&
+                          (dc_targets(frame, d, DC_TARGET_ROUGHNESS) || dc_targets(frame, d, DC_TARGET_METALLIC) ||
+                           dc_targets(frame, d, DC_TARGET_AO));
+    const bool want_emission = !albedo_only && dc_targets(frame, d, DC_TARGET_EMISSION);
     /* Coverage is the albedo's alpha; without an albedo, the first texture of the set's. */
     float4 albedo = (float4)(0.0f), normal = (float4)(0.0f), orm = (float4)(0.0f), emission = (float4)(0.0f);
     if (d->texture >= 0) albedo = dc_lookup_texel(d, lk, textures, texels, d->texture);
@@ -113,42 +122,49 @@ inline void dc_apply_decal(__constant const DcFrame* frame, __global const DcDec
         normal = dc_lookup_texel(d, lk, textures, texels, d->normal_texture);
     if (want_orm || (d->texture < 0 && d->normal_texture < 0 && d->orm_texture >= 0))
         orm = dc_lookup_texel(d, lk, textures, texels, d->orm_texture);
-    if (d->emission_texture >= 0 &&
-        (want_emission || (d->texture < 0 && d->normal_texture < 0 && d->orm_texture < 0)))
+    if (d->emission_texture >= 0 && (want_emission || (d->texture < 0 && d->normal_texture < 0 && d->orm_texture < 0)))
         emission = dc_lookup_texel(d, lk, textures, texels, d->emission_texture);
-    const float coverage = d->texture >= 0          ? albedo.w
-                           : d->normal_texture >= 0 ? normal.w
-                           : d->orm_texture >= 0    ? orm.w
+    const float coverage = d->texture >= 0            ? albedo.w
+                           : d->normal_texture >= 0   ? normal.w
+                           : d->orm_texture >= 0      ? orm.w
                            : d->emission_texture >= 0 ? emission.w
-                                                    : 1.0f;
-    const float g = coverage * lk->fade * weight; /* before each target's factor */
-    if (!(g > 0.0f)) return;
+                                                      : 1.0f;
+    const float g = coverage * lk.fade * weight; /* before each target's factor */
+    if (!(g > 0.0f)) return s;
     float3 v;
     if (want_albedo && dc_value3(d, DC_TARGET_ALBEDO, d->albedo_value, d->texture, albedo, &v)) {
         const float gt = g * d->factor[DC_TARGET_ALBEDO];
-        s->albedo = dc_blend3(s->albedo, v, clamp(gt, 0.0f, 1.0f), gt, d->op[DC_TARGET_ALBEDO]);
+        s.albedo = dc_blend3(s.albedo, v, clamp(gt, 0.0f, 1.0f), gt, d->op[DC_TARGET_ALBEDO]);
     }
-    if (want_normal) dc_apply_normal_map(d, lk, normal, surface_normal, clamp(g * d->factor[DC_TARGET_NORMAL], 0.0f, 1.0f), s);
+    if (want_normal)
+        s = dc_apply_normal_map(d, lk, normal, surface_normal, clamp(g * d->factor[DC_TARGET_NORMAL], 0.0f, 1.0f), s);
     const bool orm_ok = d->orm_texture >= 0 && dc_straight(orm, &v);
     const float3 orm_value = v;
-    for (int target = DC_TARGET_ROUGHNESS; target <= DC_TARGET_AO; ++target) {
+    for (int target = DC_TARGET_ROUGHNESS; target <= DC_TARGET_AO && !albedo_only; ++target) {
         if (!dc_targets(frame, d, target)) continue;
         float value;
         if (d->value_mask & (1 << target)) {
-            value = target == DC_TARGET_AO ? d->ao_value : target == DC_TARGET_ROUGHNESS ? d->roughness_value : d->metallic_value;
+            value = target == DC_TARGET_AO          ? d->ao_value
+                    : target == DC_TARGET_ROUGHNESS ? d->roughness_value
+                                                    : d->metallic_value;
         } else if (orm_ok) {
             value = target == DC_TARGET_AO ? orm_value.x : target == DC_TARGET_ROUGHNESS ? orm_value.y : orm_value.z;
         } else {
             continue;
         }
         const float gt = g * d->factor[target], f = clamp(gt, 0.0f, 1.0f);
-        float* a = target == DC_TARGET_AO ? &s->ao : target == DC_TARGET_ROUGHNESS ? &s->roughness : &s->metallic;
-        *a = dc_blend1(*a, value, f, gt, d->op[target]);
+        if (target == DC_TARGET_AO)
+            s.ao = dc_blend1(s.ao, value, f, gt, d->op[target]);
+        else if (target == DC_TARGET_ROUGHNESS)
+            s.roughness = dc_blend1(s.roughness, value, f, gt, d->op[target]);
+        else
+            s.metallic = dc_blend1(s.metallic, value, f, gt, d->op[target]);
     }
     if (want_emission && dc_value3(d, DC_TARGET_EMISSION, d->emission_value, d->emission_texture, emission, &v)) {
         const float gt = g * d->factor[DC_TARGET_EMISSION];
-        s->emission = dc_blend3(s->emission, v, clamp(gt, 0.0f, 1.0f), gt, d->op[DC_TARGET_EMISSION]);
+        s.emission = dc_blend3(s.emission, v, clamp(gt, 0.0f, 1.0f), gt, d->op[DC_TARGET_EMISSION]);
     }
+    return s;
 }
 
 #endif

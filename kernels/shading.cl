@@ -2,13 +2,13 @@
  * the material (DESIGN.md section 3). Background pixels are copied through unchanged.
  * The material travels in three float4 planes: (albedo, roughness), (world normal, metallic),
  * (emission, ao); DcFrame::attributes says which of their parts the frame has. */
-#include "shared_types.h"
-#include "matrix.h"
-#include "reconstruct.h"
-#include "texture_sample.h"
 #include "decal_kinds.h"
 #include "materials.h"
+#include "matrix.h"
 #include "occlusion.h"
+#include "reconstruct.h"
+#include "shared_types.h"
+#include "texture_sample.h"
 
 inline float3 dc_world_to_camera_vector(__constant const DcFrame* f, float3 v) {
     return (float3)(dot(vload3(0, f->world_to_camera), v), dot(vload3(0, f->world_to_camera + 4), v),
@@ -22,14 +22,16 @@ inline float3 dc_camera_to_world_vector(__constant const DcFrame* f, float3 v) {
                               m[2] * v.x + m[6] * v.y + m[10] * v.z));
 }
 
-__kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t depth_image,
-                       __read_only image2d_t position_image, __read_only image2d_t surface0_in,
-                       __read_only image2d_t surface1_in, __read_only image2d_t surface2_in,
-                       __global float4* surface0_out, __global float4* surface1_out, __global float4* surface2_out,
-                       __global const DcDecal* decals, __global const DcTexture* textures,
-                       __global const float4* texels, __global const int* tile_offsets,
-                       __global const int* tile_decals, int binned, __global const float* mask_weights,
-                       __global const uint* occlusion_maps) {
+/* One pixel. `albedo_only` is a literal in each kernel below, so the albedo-only kernel carries
+ * none of the other targets' or the blast occlusion's code (fewer registers, faster loops). */
+inline void dc_shade_pixel(__constant const DcFrame* frame, __read_only image2d_t depth_image,
+                           __read_only image2d_t position_image, __read_only image2d_t surface0_in,
+                           __read_only image2d_t surface1_in, __read_only image2d_t surface2_in,
+                           __global float4* surface0_out, __global float4* surface1_out, __global float4* surface2_out,
+                           __global const DcDecal* decals, __global const DcTexture* textures,
+                           __global const float4* texels, __global const int* tile_offsets,
+                           __global const int* tile_decals, int binned, __global const float* mask_weights,
+                           __global const uint* occlusion_maps, const bool albedo_only) {
     const int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame->width || y >= frame->height) return;
     const int2 xy = (int2)(x, y);
@@ -43,11 +45,14 @@ __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t de
     float3 p;
     if (dc_reconstruct(frame, depth_image, position_image, x, y, &p)) {
         float3 normal = (float3)(0.0f);
-        if (frame->reconstruct_normals) normal = dc_normal_from_depth(frame, depth_image, position_image, x, y, p);
-        else if (frame->has_normal) normal = normalize(dc_world_to_camera_vector(frame, in1.xyz));
+        if (frame->reconstruct_normals)
+            normal = dc_normal_from_depth(frame, depth_image, position_image, x, y, p);
+        else if (frame->has_normal)
+            normal = normalize(dc_world_to_camera_vector(frame, in1.xyz));
         const int has_normal = frame->has_normal || frame->reconstruct_normals;
         float3 p_dx = p, p_dy = p;
-        const int footprint = has_normal && frame->needs_footprint && dc_footprint(frame, x, y, p, normal, &p_dx, &p_dy);
+        const int footprint =
+            has_normal && frame->needs_footprint && dc_footprint(frame, x, y, p, normal, &p_dx, &p_dy);
         DcSurface s;
         s.albedo = in0.xyz;
         s.roughness = in0.w;
@@ -64,13 +69,14 @@ __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t de
         }
         for (int k = begin; k < end; ++k) {
             __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
-            /* blast occlusion: a surface nearer the origin hides this one from the blast */
-            if (d->occlusion_map >= 0 && !dc_blast_reaches(d, occlusion_maps, p, normal)) continue;
             const DcLookup lk = dc_decal_lookup(d, p, normal, has_normal, p_dx, p_dy, footprint);
             if (!(lk.fade > 0.0f)) continue;
+            /* blast occlusion: a surface nearer the origin hides this one from the blast */
+            if (!albedo_only && d->occlusion_map >= 0 && !dc_blast_reaches(d, occlusion_maps, p, normal)) continue;
             float weight = d->opacity;
-            if (d->mask >= 0) weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
-            dc_apply_decal(frame, d, &lk, textures, texels, weight, normal, &s);
+            if (d->mask >= 0)
+                weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
+            s = dc_apply_decal(frame, d, lk, textures, texels, weight, normal, s, albedo_only);
         }
         out0 = (float4)(s.albedo, s.roughness);
         out1 = (float4)(s.normal_changed ? dc_camera_to_world_vector(frame, s.normal) : in1.xyz, s.metallic);
@@ -81,3 +87,23 @@ __kernel void dc_shade(__constant const DcFrame* frame, __read_only image2d_t de
     if (has_group1) surface1_out[i] = out1;
     if (has_group2) surface2_out[i] = out2;
 }
+
+#define DC_SHADE_ARGUMENTS                                                                                       \
+    __constant const DcFrame *frame, __read_only image2d_t depth_image, __read_only image2d_t position_image,    \
+        __read_only image2d_t surface0_in, __read_only image2d_t surface1_in, __read_only image2d_t surface2_in, \
+        __global float4 *surface0_out, __global float4 *surface1_out, __global float4 *surface2_out,             \
+        __global const DcDecal *decals, __global const DcTexture *textures, __global const float4 *texels,       \
+        __global const int *tile_offsets, __global const int *tile_decals, int binned,                           \
+        __global const float *mask_weights, __global const uint *occlusion_maps
+#define DC_SHADE_CALL(ALBEDO_ONLY)                                                                          \
+    dc_shade_pixel(frame, depth_image, position_image, surface0_in, surface1_in, surface2_in, surface0_out, \
+                   surface1_out, surface2_out, decals, textures, texels, tile_offsets, tile_decals, binned, \
+                   mask_weights, occlusion_maps, ALBEDO_ONLY)
+
+/* Every target and blast occlusion. */
+__kernel void dc_shade(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(false); }
+/* Scenes that change only the albedo and have no blast occlusion (the host picks). */
+__kernel void dc_shade_albedo(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(true); }
+
+#undef DC_SHADE_ARGUMENTS
+#undef DC_SHADE_CALL

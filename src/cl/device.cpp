@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
+#include <iostream>
 
 #include "decalcomp/error.hpp"
 
@@ -108,6 +110,8 @@ cl::Program& ComputeDevice::program() {
     try {
         program_ = cl::Program(context_, programSource());
         program_.build({info_.device}, options.c_str());
+        if (std::getenv("DECALCOMP_CL_BUILD_LOG"))  // the compiler's notes even on success
+            std::cerr << program_.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device) << "\n";
     } catch (const cl::BuildError& e) {
         std::string log;
         for (const auto& [device, text] : e.getBuildLog()) log += text;

@@ -58,6 +58,11 @@ std::string programSource() {
     return source;
 }
 
-std::string buildOptions() { return "-cl-std=CL1.2"; }
+// DECALCOMP_CL_OPTIONS appends options (e.g. "-cl-nv-verbose" to see register use on NVIDIA).
+std::string buildOptions() {
+    std::string options = "-cl-std=CL1.2";
+    if (const char* extra = std::getenv("DECALCOMP_CL_OPTIONS")) options += std::string(" ") + extra;
+    return options;
+}
 
 }  // namespace decalcomp

@@ -91,7 +91,7 @@ std::vector<Attribute> compositedAttributes(const DecalScene& scene) {
 }
 
 struct Compositor::State {
-    cl::Kernel tile_bounds, decal_bounds, coarse_depth, coarse_mask, coarse_count, coarse_fill, bin_count, bin_fill, shade, occlusion;
+    cl::Kernel tile_bounds, decal_bounds, coarse_depth, coarse_mask, coarse_count, coarse_fill, bin_count, bin_fill, shade, shade_albedo, occlusion;
     cl::Buffer texture_table, texels;
     std::size_t mask_count = 0;
     std::vector<int> texture_entries;  // scene texture index -> texture table entry
@@ -116,6 +116,7 @@ Compositor::Compositor(ComputeDevice& device) : device_(device), state_(std::mak
         state_->bin_count = cl::Kernel(program, "dc_bin_count");
         state_->bin_fill = cl::Kernel(program, "dc_bin_fill");
         state_->shade = cl::Kernel(program, "dc_shade");
+        state_->shade_albedo = cl::Kernel(program, "dc_shade_albedo");
         state_->occlusion = cl::Kernel(program, "dc_occlusion_build");
     } catch (const cl::Error& e) {
         throw deviceError(fmt::format("{}: {}: {}", device_.info().name, e.what(), clErrorName(e.err())));
@@ -304,22 +305,26 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                                                              &e_occlusion);
 
         cl::Event e_shade;
-        s.shade.setArg(0, frame_buffer);
-        s.shade.setArg(1, depth);
-        s.shade.setArg(2, position);
+        // Scenes that change only the albedo, without blast occlusion, take the lean kernel.
+        const bool albedo_only = occlusion.occluders.empty() &&
+                                 std::none_of(s.targets.begin() + 1, s.targets.end(), [](bool t) { return t; });
+        cl::Kernel& shade = albedo_only ? s.shade_albedo : s.shade;
+        shade.setArg(0, frame_buffer);
+        shade.setArg(1, depth);
+        shade.setArg(2, position);
         for (int g = 0; g < kSurfaceGroups; ++g) {
-            s.shade.setArg(cl_uint(3 + g), surface_in[std::size_t(g)]);
-            s.shade.setArg(cl_uint(6 + g), surface_out[std::size_t(g)]);
+            shade.setArg(cl_uint(3 + g), surface_in[std::size_t(g)]);
+            shade.setArg(cl_uint(6 + g), surface_out[std::size_t(g)]);
         }
-        s.shade.setArg(9, decal_buffer);
-        s.shade.setArg(10, s.texture_table);
-        s.shade.setArg(11, s.texels);
-        s.shade.setArg(12, s.tile_offsets);
-        s.shade.setArg(13, s.tile_decals);
-        s.shade.setArg(14, cl_int(options.binned && !decals.empty() ? 1 : 0));
-        s.shade.setArg(15, mask_buffer);
-        s.shade.setArg(16, occlusion_maps);
-        queue.enqueueNDRangeKernel(s.shade, cl::NullRange, cl::NDRange(std::size_t(frame.width), std::size_t(frame.height)),
+        shade.setArg(9, decal_buffer);
+        shade.setArg(10, s.texture_table);
+        shade.setArg(11, s.texels);
+        shade.setArg(12, s.tile_offsets);
+        shade.setArg(13, s.tile_decals);
+        shade.setArg(14, cl_int(options.binned && !decals.empty() ? 1 : 0));
+        shade.setArg(15, mask_buffer);
+        shade.setArg(16, occlusion_maps);
+        queue.enqueueNDRangeKernel(shade, cl::NullRange, cl::NDRange(std::size_t(frame.width), std::size_t(frame.height)),
                                    cl::NullRange, nullptr, &e_shade);
         std::array<std::vector<float>, kSurfaceGroups> results;
         for (int g = 0; g < kSurfaceGroups; ++g) {
