@@ -69,6 +69,8 @@ struct MappingOptions {
     // --normals SPACE,ENCODING: explicit wins over the profile and the check against the geometry
     std::optional<std::string> normal_space;     // world | camera
     std::optional<std::string> normal_encoding;  // signed | unsigned
+    // --add-channels ATTR[=VALUE],...: material channels to add when the input lacks them
+    std::map<Attribute, float> add_channels;
 };
 
 // How several files make one frame: files[0, positional) are pooled and mapped through the profile
@@ -97,6 +99,15 @@ struct ChannelMapping {
     std::string normal_encoding = "signed";  // signed | unsigned (n * 0.5 + 0.5)
     bool normal_encoding_explicit = false;   // from --normals, not the profile
 };
+
+// --add-channels: adds channels for the attributes in options.add_channels (roughness, metallic,
+// ao, emission) the mapping lacks, beside the albedo's channels in its file and part, named as the
+// matched profile spells them, with the albedo's pixel type and every sample set to the given
+// value, and maps them. Attributes the input has are left alone. Throws Error(Input) when a wanted
+// name exists unmapped.
+void addAttributeChannels(std::vector<ExrImage>& files, ChannelMapping& mapping, const MappingOptions& options);
+// The value an added channel holds where no decal writes: roughness 0.5, ao 1, others 0.
+float addedChannelDefault(Attribute attribute);
 
 // Throws Error(Input) for unknown profiles, explicit channels that do not exist, ambiguous layers,
 // a pass file without the attribute's channels.

@@ -156,6 +156,7 @@ public:
         std::optional<StageTimer> timer;
         timer.emplace(timings.map_extract_s);
         ChannelMapping mapping = mapChannels(files, request_.mapping);
+        addAttributeChannels(files, mapping, request_.mapping);
         if (!mapping.attributes.count(Attribute::Albedo))
             throw inputError(fmt::format("{}: no albedo channels found (profile {}); map them with --channel "
                                          "albedo=R,G,B",

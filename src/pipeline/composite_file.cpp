@@ -37,9 +37,9 @@ std::vector<std::string> missingAttributeWarnings(const std::vector<Attribute>& 
     for (Attribute attribute : attributes)
         if (!mapping.attributes.count(attribute))
             warnings.push_back(fmt::format("{}: decals change {} but the input has no {} channels (profile {}); "
-                                           "left out (map them with --channel {}=...)",
+                                           "left out (map them with --channel {}=..., or add them with --add-channels {})",
                                            input, attributeName(attribute), attributeName(attribute), mapping.profile,
-                                           attributeName(attribute)));
+                                           attributeName(attribute), attributeName(attribute)));
     return warnings;
 }
 
@@ -168,6 +168,7 @@ CompositeReport compositeFile(const CompositeRequest& request) {
     FrameFiles frame = readFrameFiles(request.input, request.extra_inputs, request.pass_files);
     std::vector<ExrImage>& files = frame.files;
     report.mapping = mapChannels(files, request.mapping, frame.roles);
+    addAttributeChannels(files, report.mapping, request.mapping);
     if (!report.mapping.attributes.count(Attribute::Albedo))
         throw inputError(fmt::format("{}: no albedo channels found (profile {}); map them with --channel albedo=R,G,B",
                                      request.input, report.mapping.profile));

@@ -36,6 +36,31 @@ void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<s
             "Normal pass space and encoding: world|camera[,signed|packed] (default: the profile's, checked "
             "against the depth pass)")
         ->check(CLI::IsMember({"world", "camera", "world,signed", "world,packed", "camera,signed", "camera,packed"}));
+    command.add_option_function<std::vector<std::string>>(
+        "--add-channels",
+        [&options](const std::vector<std::string>& items) {
+            for (const std::string& item : items) {
+                const auto eq = item.find('=');
+                const std::string name = item.substr(0, eq);
+                const auto attribute = attributeFromName(name);
+                if (!attribute || !(*attribute == Attribute::Roughness || *attribute == Attribute::Metallic ||
+                                    *attribute == Attribute::AmbientOcclusion || *attribute == Attribute::Emission))
+                    throw CLI::ValidationError("--add-channels",
+                                               item + ": expected roughness, metallic, ao or emission[=VALUE]");
+                float value = addedChannelDefault(*attribute);
+                if (eq != std::string::npos) {
+                    try {
+                        value = std::stof(item.substr(eq + 1));
+                    } catch (const std::exception&) {
+                        throw CLI::ValidationError("--add-channels", item + ": VALUE is not a number");
+                    }
+                }
+                options.add_channels[*attribute] = value;
+            }
+        },
+        "Add channels the input lacks so decals can write them: roughness, metallic, ao, emission, each "
+        "optionally =VALUE where no decal writes (defaults 0.5, 0, 1, 0); comma-separated")
+        ->delimiter(',');
 }
 
 void finishMappingOptions(MappingOptions& options, const std::vector<std::string>& channel_flags,
