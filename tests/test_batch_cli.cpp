@@ -335,3 +335,22 @@ TEST(SubmitScript, DryRunBuildsAnSbatchArray) {
 
 }  // namespace
 }  // namespace decalcomp
+
+namespace decalcomp {
+namespace {
+
+// A batch reports a problem every frame shares once, after the frames, not once per frame.
+TEST(BatchCli, MissingChannelWarningIsReportedOncePerBatch) {
+    Sequence s({1, 2, 3});
+    const std::string scene = (s.dir.path() / "roughness.json").string();
+    std::ofstream(scene) << R"({"decals": [{"name": "gloss", "translate": [0, 0, 0], "scale": 100,
+                                           "affects": {"roughness": {"value": 0.1}}}]})";
+    const auto r = test::runCli("batch " + shellQuote(s.input) + " -o " + shellQuote(s.output) + " --decals " +
+                                shellQuote(scene) + " --device cpu --frames 1-3 --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(count(r.output, "decals change roughness but the input has no roughness channels"), 1u) << r.output;
+    for (int f : {1, 2, 3}) EXPECT_TRUE(fs::exists(s.out(f))) << f;
+}
+
+}  // namespace
+}  // namespace decalcomp

@@ -180,7 +180,9 @@ public:
             if (check.performed || !gbuffer.has(Attribute::Position)) settle(gbuffer.depth_convention);
         }
         settleNormalEncoding(gbuffer, mapping, *camera);
-        evaluateMasks(files, mapping, scene_, gbuffer, nullptr);
+        std::vector<std::string> warnings = missingAttributeWarnings(compositedAttributes(scene_), mapping, request_.input);
+        evaluateMasks(files, mapping, scene_, gbuffer, &warnings);
+        noteWarnings(warnings);
         // Per-frame decals go through setScene, which also re-uploads the textures (a Compositor
         // call that replaces only the decals would save that; static scenes never pay it).
         timer.reset();
@@ -204,6 +206,19 @@ private:
     const bool animated_;
     std::mutex mutex_;
     std::optional<DepthConvention> settled_;
+    std::set<std::string> warnings_;  // distinct warnings of all frames
+
+public:
+    std::vector<std::string> warnings() {
+        std::lock_guard lock(mutex_);
+        return {warnings_.begin(), warnings_.end()};
+    }
+
+private:
+    void noteWarnings(const std::vector<std::string>& warnings) {
+        std::lock_guard lock(mutex_);
+        warnings_.insert(warnings.begin(), warnings.end());
+    }
 
     // The planar/radial check runs until one frame could perform it (or the frames have no
     // position pass to check against); its verdict then holds for the whole sequence.
@@ -389,6 +404,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     }
     for (std::thread& t : threads) t.join();
     report.progress.elapsed_s = secondsSince(start);
+    report.warnings = compositing.warnings();
     for (const BatchTimings& t : thread_timings) {
         BatchTimings& sum = report.timings;
         sum.read_s += t.read_s, sum.map_extract_s += t.map_extract_s, sum.set_scene_s += t.set_scene_s;

@@ -41,6 +41,7 @@ void run(BatchFlags& f) {
     if (r.scene.empty() && !r.io_only) throw Error(ErrorKind::Usage, "--decals is required (or --io-only)");
     ProgressPrinter printer(std::cerr, progressStyle(f));
     const BatchReport report = runBatch(r, &printer);
+    for (const std::string& warning : report.warnings) std::cerr << "decalcomp: warning: " << warning << "\n";
     if (f.timing) {
         const BatchTimings& t = report.timings;
         const double n = std::max(1, report.progress.written + report.progress.failed);
