@@ -100,6 +100,29 @@ TEST(AddChannels, AttributesTheInputHasAreNotAddedAgain) {
     EXPECT_EQ(channelNames(readExr(out)), channelNames(readExr(test::dataPath("sample/gbuffer.exr"))));
 }
 
+// In a multi-part file names without a dot read back as "part.name": the added channels take a
+// spelling of the profile that reads back as itself, so the output maps again.
+TEST(AddChannels, MultiPartOutputsMapTheAddedChannelsAgain) {
+    ScratchDir dir;
+    const std::string exr = dir.file("parts.exr"), camera = dir.file("parts.json"), out = dir.file("out.exr");
+    const auto g = test::runCommand(shellQuote(DECALCOMP_GEN) + " --width 160 --height 90 --naming generic --multipart -o " +
+                                    shellQuote(exr) + " --camera " + shellQuote(camera));
+    ASSERT_EQ(g.exit_code, 0) << g.output;
+    // drop the generator's roughness part so there is something to add
+    ExrImage image = readExr(exr);
+    image.parts.erase(std::remove_if(image.parts.begin(), image.parts.end(),
+                                     [](const ExrPart& p) { return p.header.hasName() && p.header.name() == "roughness"; }),
+                      image.parts.end());
+    ASSERT_FALSE(mapChannels(image, MappingOptions{}).attributes.count(Attribute::Roughness));
+    writeExrAtomic(image, exr);
+    const auto r = test::runCli("composite " + shellQuote(exr) + " --decals " +
+                                shellQuote(test::dataPath("sample/scene.json")) + " --camera " + shellQuote(camera) +
+                                " --device cpu --add-channels roughness -o " + shellQuote(out));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const ChannelMapping again = mapChannels(readExr(out), MappingOptions{});
+    ASSERT_TRUE(again.attributes.count(Attribute::Roughness)) << "the added roughness must map when read again";
+}
+
 TEST(AddChannels, BadRequestsAreUsageErrors) {
     BlenderFrame f;
     for (const char* bad : {"normal", "roughness=abc", "glossiness"}) {

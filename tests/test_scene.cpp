@@ -275,7 +275,8 @@ TEST(SceneLoad, AffectsSetsFactorsOpsAndValues) {
     SceneFixture f;
     const DecalScene s = loadScene(f.scene(R"([
         {"texture": "t", "scale": 1},
-        {"texture": "t", "scale": 1, "affects": {"albedo": 0.5, "roughness": {"factor": 2, "op": "add", "value": 0.25},
+        {"texture": {"albedo": "tex/t.png", "normal": "tex/t.png"}, "scale": 1,
+         "affects": {"albedo": 0.5, "roughness": {"factor": 2, "op": "add", "value": 0.25},
                                                  "emission": {"value": [1, 2, 3]},
                                                  "normal": {"mode": "whiteout", "strength": 1.5, "factor": 0.75}}},
         {"scale": 1, "affects": {"metallic": {"value": 1, "op": "replace"}}}])"));
@@ -296,7 +297,8 @@ TEST(SceneLoad, AffectsSetsFactorsOpsAndValues) {
     EXPECT_EQ(d.effect(DecalTarget::Metallic).factor, 0.0f);  // not listed: left alone
     EXPECT_EQ(d.effect(DecalTarget::AmbientOcclusion).factor, 0.0f);
     EXPECT_TRUE(decalAffects(d, DecalTarget::Roughness));  // a constant without a texture
-    EXPECT_FALSE(decalAffects(d, DecalTarget::Normal));    // no normal map in the set
+    EXPECT_TRUE(decalAffects(d, DecalTarget::Normal));     // the set's normal map
+    EXPECT_FALSE(decalAffects(d, DecalTarget::Emission) && d.emission_texture >= 0);  // a constant, no map
     const Decal& untextured = s.decals[2];
     EXPECT_EQ(untextured.albedo_texture, -1);
     EXPECT_TRUE(decalAffects(untextured, DecalTarget::Metallic));
@@ -444,7 +446,9 @@ const ErrorCase kErrorCases[] = {
     {"AffectsColourValueShape", D("{" T ", \"scale\": 1, \"affects\": {\"albedo\": {\"value\": [1, 0]}}}"),
      "decals[0].affects.albedo.value: expected [r, g, b] (linear) or one number"},
     {"AffectsOnlyFactorsNoTexture", D("{\"scale\": 1, \"affects\": {\"roughness\": 0.5}}"),
-     "decals[0]: missing 'texture'"},
+     "decals[0].affects.roughness: nothing to write: the texture set has no 'orm' map and there is no 'value'"},
+    {"AffectsNormalWithoutMap", D("{" T ", \"scale\": 1, \"affects\": {\"albedo\": 1, \"normal\": 1}}"),
+     "decals[0].affects.normal: nothing to write: the texture set has no 'normal' map"},
     {"UnknownTextureName", D("{\"texture\": \"scorch\", \"scale\": 1}"), "decals[0].texture: unknown texture 'scorch'"},
     {"TextureType", D("{\"texture\": 5, \"scale\": 1}"), "decals[0].texture: expected a texture name"},
     {"NoPlacement", D("{" T "}"), "decals[0]: missing placement"},

@@ -97,7 +97,8 @@ struct ChannelMapping {
     bool reversed_z = false;
     std::string normal_space = "world";      // of the mapped normal channels: world | camera
     std::string normal_encoding = "signed";  // signed | unsigned (n * 0.5 + 0.5)
-    bool normal_encoding_explicit = false;   // from --normals, not the profile
+    bool normal_space_explicit = false;      // from --normals, not the profile: the check keeps it
+    bool normal_encoding_explicit = false;
 };
 
 // --add-channels: adds channels for the attributes in options.add_channels (roughness, metallic,

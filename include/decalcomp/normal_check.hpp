@@ -20,8 +20,14 @@ struct NormalCheck {
     std::string summary() const;
 };
 
+// What the user fixed with --normals: the readings that disagree do not compete.
+struct NormalConstraints {
+    std::optional<NormalSpace> space;
+    std::optional<bool> packed;
+};
+
 // Compares up to ~4000 pixels on smooth surfaces (both neighbours along each axis close in depth).
-NormalCheck checkNormalEncoding(const GBuffer& gbuffer, const Camera& camera);
+NormalCheck checkNormalEncoding(const GBuffer& gbuffer, const Camera& camera, const NormalConstraints& fixed = {});
 
 const char* normalSpaceName(NormalSpace space);  // "world", "camera"
 

@@ -156,11 +156,11 @@ public:
         std::optional<StageTimer> timer;
         timer.emplace(timings.map_extract_s);
         ChannelMapping mapping = mapChannels(files, request_.mapping);
-        addAttributeChannels(files, mapping, request_.mapping);
         if (!mapping.attributes.count(Attribute::Albedo))
             throw inputError(fmt::format("{}: no albedo channels found (profile {}); map them with --channel "
                                          "albedo=R,G,B",
                                          job.input, mapping.profile));
+        addAttributeChannels(files, mapping, request_.mapping);
         const std::vector<Decal>* decals = &scene_.decals;
         if (animated_) {
             work_scene.decals = decalsAtFrame(scene_.decals, double(job.frame));
@@ -179,7 +179,15 @@ public:
             const DepthCheck check = settleDepthConvention(gbuffer, mapping, *camera);
             if (check.performed || !gbuffer.has(Attribute::Position)) settle(gbuffer.depth_convention);
         }
-        settleNormalEncoding(gbuffer, mapping, *camera);
+        if (gbuffer.has(Attribute::Normal)) {  // like the depth convention: one verdict for the sequence
+            if (const std::optional<NormalEncoding> settled = settledNormals()) {
+                gbuffer.normal_encoding = *settled;
+                mapping.normal_space = normalSpaceName(settled->space);
+                mapping.normal_encoding = settled->packed ? "unsigned" : "signed";
+            } else if (settleNormalEncoding(gbuffer, mapping, *camera).verdict) {
+                settleNormals(gbuffer.normal_encoding);
+            }
+        }
         std::vector<std::string> warnings = missingAttributeWarnings(compositedAttributes(scene_), mapping, request_.input);
         evaluateMasks(files, mapping, scene_, gbuffer, &warnings);
         noteWarnings(warnings);
@@ -206,6 +214,7 @@ private:
     const bool animated_;
     std::mutex mutex_;
     std::optional<DepthConvention> settled_;
+    std::optional<NormalEncoding> settled_normals_;
     std::set<std::string> warnings_;  // distinct warnings of all frames
 
 public:
@@ -215,6 +224,15 @@ public:
     }
 
 private:
+    // The first frame whose normals fit one reading clearly settles it for the sequence.
+    std::optional<NormalEncoding> settledNormals() {
+        std::lock_guard lock(mutex_);
+        return settled_normals_;
+    }
+    void settleNormals(NormalEncoding encoding) {
+        std::lock_guard lock(mutex_);
+        if (!settled_normals_) settled_normals_ = encoding;
+    }
     void noteWarnings(const std::vector<std::string>& warnings) {
         std::lock_guard lock(mutex_);
         warnings_.insert(warnings.begin(), warnings.end());

@@ -46,7 +46,7 @@ std::string NormalCheck::summary() const {
                        reason, pixels, agreement[0][0], agreement[0][1], agreement[1][0], agreement[1][1]);
 }
 
-NormalCheck checkNormalEncoding(const GBuffer& g, const Camera& camera) {
+NormalCheck checkNormalEncoding(const GBuffer& g, const Camera& camera, const NormalConstraints& fixed) {
     NormalCheck check;
     if (!g.has(Attribute::Normal)) {
         check.reason = "no normal pass";
@@ -78,19 +78,26 @@ NormalCheck checkNormalEncoding(const GBuffer& g, const Camera& camera) {
         return check;
     }
     check.performed = true;
-    int best_space = 0, best_packed = 0;
+    // only the readings the caller left open compete (--normals may fix the space or the encoding)
+    auto open = [&](int space, int packed) {
+        return (!fixed.space || int(*fixed.space == NormalSpace::Camera) == space) &&
+               (!fixed.packed || int(*fixed.packed) == packed);
+    };
+    int best_space = -1, best_packed = -1;
     double runner_up = -2.0;
     for (int space = 0; space < 2; ++space)
         for (int packed = 0; packed < 2; ++packed) {
             check.agreement[space][packed] = sums[space][packed] / double(check.pixels);
-            if (check.agreement[space][packed] > check.agreement[best_space][best_packed]) {
+            if (open(space, packed) &&
+                (best_space < 0 || check.agreement[space][packed] > check.agreement[best_space][best_packed])) {
                 best_space = space;
                 best_packed = packed;
             }
         }
     for (int space = 0; space < 2; ++space)
         for (int packed = 0; packed < 2; ++packed)
-            if (space != best_space || packed != best_packed) runner_up = std::max(runner_up, check.agreement[space][packed]);
+            if (open(space, packed) && (space != best_space || packed != best_packed))
+                runner_up = std::max(runner_up, check.agreement[space][packed]);
     const double best = check.agreement[best_space][best_packed];
     const NormalEncoding found{best_space ? NormalSpace::Camera : NormalSpace::World, best_packed == 1};
     const bool as_given = found.space == g.normal_encoding.space && found.packed == g.normal_encoding.packed;

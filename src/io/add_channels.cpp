@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_io.hpp"
@@ -13,17 +14,43 @@ namespace decalcomp {
 
 namespace {
 
-// The matched profile's first spelling of the attribute (so the file maps the same way when read
-// again), else a generic name with the albedo channel's layer prefix ("Layer." of "Layer.Pass.C").
-std::vector<std::string> newChannelNames(const ChannelMapping& mapping, const MappingOptions& options,
-                                         const std::string& albedo_channel, Attribute attribute) {
+// A channel's stored name in `part` that reads back as `qualified` (multi-part files prefix the
+// part's name to names without a dot), or nullopt when none does.
+std::optional<std::string> storedName(const ExrImage& image, const ExrPart& part, const std::string& qualified) {
+    const bool multi = image.parts.size() > 1;
+    const std::string part_name = part.header.hasName() ? part.header.name() : "";
+    for (std::string candidate : {qualified, multi && qualified.rfind(part_name + ".", 0) == 0
+                                                 ? qualified.substr(part_name.size() + 1)
+                                                 : qualified})
+        if (io::qualifiedChannelName(part_name, multi, candidate) == qualified) return candidate;
+    return std::nullopt;
+}
+
+bool taken(const ExrImage& image, const ExrPart& part, const std::string& stored, const std::string& qualified) {
+    for (const ExrPart& p : image.parts)
+        for (const ExrChannel& c : p.channels)
+            if (c.qualified == qualified || (&p == &part && c.name == stored)) return true;
+    return false;
+}
+
+// Stored names for the new channels: the first of the matched profile's spellings that reads back
+// as itself in this part (so the file maps the same way when read again), else a generic name with
+// the albedo channel's layer prefix ("Layer." of "Layer.Pass.C").
+std::vector<std::string> newChannelNames(const ExrImage& image, const ExrPart& part, const ChannelMapping& mapping,
+                                         const MappingOptions& options, const std::string& albedo_channel,
+                                         Attribute attribute) {
     for (const ChannelProfile& profile : profileSet(options.profile_files)) {
         if (profile.name != mapping.profile || !profile.attributes.count(attribute)) continue;
-        std::vector<std::string> names = profile.attributes.at(attribute).front().channels;
-        for (std::string& name : names)
-            if (const auto at = name.find("{layer}"); at != std::string::npos) name.replace(at, 7, mapping.layer);
-        if (std::none_of(names.begin(), names.end(), [](const std::string& n) { return n.find('{') != std::string::npos; }))
-            return names;
+        for (const ProfileSpelling& spelling : profile.attributes.at(attribute)) {
+            std::vector<std::string> names;
+            for (std::string name : spelling.channels) {
+                if (const auto at = name.find("{layer}"); at != std::string::npos) name.replace(at, 7, mapping.layer);
+                const auto stored = storedName(image, part, name);
+                if (!stored || name.find('{') != std::string::npos || taken(image, part, *stored, name)) break;
+                names.push_back(*stored);
+            }
+            if (names.size() == spelling.channels.size()) return names;
+        }
     }
     std::string prefix;
     const auto last = albedo_channel.rfind('.');
@@ -50,7 +77,8 @@ void addAttributeChannels(std::vector<ExrImage>& files, ChannelMapping& mapping,
     if (requested.empty()) return;
     const auto albedo = mapping.attributes.find(Attribute::Albedo);
     if (albedo == mapping.attributes.end() || albedo->second.empty())
-        throw inputError("--add-channels: the input has no albedo channels to put new channels beside");
+        throw inputError(fmt::format("{}: --add-channels: no albedo channels to put new channels beside",
+                                     files.empty() ? std::string("input") : files.front().path));
     const ChannelRef anchor = albedo->second.front();
     ExrImage& image = files.at(std::size_t(anchor.file));
     ExrPart& part = image.parts.at(std::size_t(anchor.part));
@@ -58,7 +86,8 @@ void addAttributeChannels(std::vector<ExrImage>& files, ChannelMapping& mapping,
     for (const auto& [attribute, value] : requested) {
         if (mapping.attributes.count(attribute)) continue;  // the input has it: nothing to add
         std::vector<ChannelRef> refs;
-        for (const std::string& name : newChannelNames(mapping, options, albedo_channel.name, attribute)) {
+        for (const std::string& name :
+             newChannelNames(image, part, mapping, options, albedo_channel.name, attribute)) {
             if (part.header.channels().findChannel(name))
                 throw inputError(fmt::format("{}: --add-channels {}: channel {} exists but is not mapped as {}; map it "
                                              "with --channel",

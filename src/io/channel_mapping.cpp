@@ -418,11 +418,10 @@ ChannelMapping mapFiles(const Files& files, const MappingOptions& options, const
     }
     for (const auto& [attribute, pass_file] : roles.pass_files)
         mapPassFile(files, pass_file, attribute, profile, profiles, options, mapping);
-    if (options.normal_space || options.normal_encoding) {
-        if (options.normal_space) mapping.normal_space = *options.normal_space;
-        if (options.normal_encoding) mapping.normal_encoding = *options.normal_encoding;
-        mapping.normal_encoding_explicit = true;
-    }
+    if (options.normal_space) mapping.normal_space = *options.normal_space;
+    if (options.normal_encoding) mapping.normal_encoding = *options.normal_encoding;
+    mapping.normal_space_explicit = options.normal_space.has_value();
+    mapping.normal_encoding_explicit = options.normal_encoding.has_value();
     if (mapping.attributes.count(Attribute::Normal) && (mapping.normal_space != "world" || mapping.normal_encoding != "signed"))
         mapping.notes.push_back(fmt::format("normal: {} space, {}", mapping.normal_space, mapping.normal_encoding));
     chooseDepthConvention(options, profile, mapping);

@@ -34,12 +34,17 @@ bool isFolder(const std::string& path) {
 std::vector<std::string> missingAttributeWarnings(const std::vector<Attribute>& attributes, const ChannelMapping& mapping,
                                                   const std::string& input) {
     std::vector<std::string> warnings;
-    for (Attribute attribute : attributes)
-        if (!mapping.attributes.count(attribute))
-            warnings.push_back(fmt::format("{}: decals change {} but the input has no {} channels (profile {}); "
-                                           "left out (map them with --channel {}=..., or add them with --add-channels {})",
-                                           input, attributeName(attribute), attributeName(attribute), mapping.profile,
-                                           attributeName(attribute), attributeName(attribute)));
+    for (Attribute attribute : attributes) {
+        if (mapping.attributes.count(attribute)) continue;
+        const std::string name = attributeName(attribute);
+        // --add-channels makes material channels; a normal pass has to come from the renderer
+        const std::string remedy = attribute == Attribute::Normal
+                                       ? "map a normal pass with --channel normal=X,Y,Z"
+                                       : fmt::format("map them with --channel {}=..., or add them with --add-channels {}",
+                                                     name, name);
+        warnings.push_back(fmt::format("{}: decals change {} but the input has no {} channels (profile {}); left out ({})",
+                                       input, name, name, mapping.profile, remedy));
+    }
     return warnings;
 }
 
@@ -104,21 +109,19 @@ DepthCheck settleDepthConvention(GBuffer& gbuffer, ChannelMapping& mapping, cons
 }
 
 NormalCheck settleNormalEncoding(GBuffer& gbuffer, ChannelMapping& mapping, const Camera& camera) {
-    NormalCheck check = checkNormalEncoding(gbuffer, camera);
+    NormalConstraints fixed;
+    if (mapping.normal_space_explicit) fixed.space = gbuffer.normal_encoding.space;
+    if (mapping.normal_encoding_explicit) fixed.packed = gbuffer.normal_encoding.packed;
+    NormalCheck check = checkNormalEncoding(gbuffer, camera, fixed);
     if (!gbuffer.has(Attribute::Normal)) return check;
     mapping.notes.push_back("normal check: " + check.summary());
     const NormalEncoding& current = gbuffer.normal_encoding;
     if (!check.verdict || (check.verdict->space == current.space && check.verdict->packed == current.packed)) return check;
-    const std::string found =
-        fmt::format("{} space, {}", normalSpaceName(check.verdict->space), check.verdict->packed ? "packed" : "signed");
-    if (mapping.normal_encoding_explicit) {
-        mapping.notes.push_back("normals stay as given by --normals although the geometry suggests " + found);
-        return check;
-    }
     gbuffer.normal_encoding = *check.verdict;
     mapping.normal_space = normalSpaceName(check.verdict->space);
     mapping.normal_encoding = check.verdict->packed ? "unsigned" : "signed";
-    mapping.notes.push_back("normals: " + found + " (checked against the depth pass)");
+    mapping.notes.push_back(fmt::format("normals: {} space, {} (checked against the depth pass)", mapping.normal_space,
+                                        check.verdict->packed ? "packed" : "signed"));
     return check;
 }
 
@@ -168,10 +171,10 @@ CompositeReport compositeFile(const CompositeRequest& request) {
     FrameFiles frame = readFrameFiles(request.input, request.extra_inputs, request.pass_files);
     std::vector<ExrImage>& files = frame.files;
     report.mapping = mapChannels(files, request.mapping, frame.roles);
-    addAttributeChannels(files, report.mapping, request.mapping);
     if (!report.mapping.attributes.count(Attribute::Albedo))
         throw inputError(fmt::format("{}: no albedo channels found (profile {}); map them with --channel albedo=R,G,B",
                                      request.input, report.mapping.profile));
+    addAttributeChannels(files, report.mapping, request.mapping);
     // What changes, and where each changed file goes, decided (and checked) before any work.
     const DecalScene scene = loadScene(request.scene);
     const std::vector<Attribute> attributes = compositedAttributes(scene);

@@ -369,7 +369,10 @@ private:
         scene_detail::parseKindFields(j, path, file_, p.decal);
         for (auto* r : {&p.texture.albedo, &p.texture.normal, &p.texture.orm, &p.texture.emission})
             if (*r) (*r)->layout = scene_detail::layoutForKind(p.decal.kind, (*r)->layout, (*r)->jsonPath, file_);
-        if (j.contains("affects")) scene_detail::parseAffects(j.at("affects"), path + ".affects", file_, p.decal);
+        if (j.contains("affects")) {
+            scene_detail::parseAffects(j.at("affects"), path + ".affects", file_, p.decal);
+            checkAffectedTargetsHaveValues(p, path + ".affects");
+        }
         if (p.texture.empty() && !std::any_of(p.decal.effects.begin(), p.decal.effects.end(), [](const TargetEffect& e) {
                 return e.value.has_value() && e.factor > 0.0f;
             }))
@@ -380,6 +383,28 @@ private:
         if (j.contains("mask"))  // identical masks share one entry of DecalScene::masks
             p.decal.mask = scene_detail::parseAndInternMask(j.at("mask"), path + ".mask", file_, masks_);
         return p;
+    }
+
+    // A listed target with neither a map nor a constant would silently do nothing: a mistake.
+    void checkAffectedTargetsHaveValues(const ParsedDecal& p, const std::string& path) const {
+        for (int t = 0; t < kDecalTargets; ++t) {
+            const auto target = DecalTarget(t);
+            const TargetEffect& e = p.decal.effect(target);
+            if (!(e.factor > 0.0f) || e.value) continue;
+            const char* map = target == DecalTarget::Albedo     ? "albedo"
+                              : target == DecalTarget::Normal   ? "normal"
+                              : target == DecalTarget::Emission ? "emission"
+                                                                : "orm";
+            const auto& request = target == DecalTarget::Albedo     ? p.texture.albedo
+                                  : target == DecalTarget::Normal   ? p.texture.normal
+                                  : target == DecalTarget::Emission ? p.texture.emission
+                                                                    : p.texture.orm;
+            if (request) continue;
+            fail(path + "." + decalTargetName(target),
+                 target == DecalTarget::Normal
+                     ? std::string("nothing to write: the texture set has no 'normal' map")
+                     : fmt::format("nothing to write: the texture set has no '{}' map and there is no 'value'", map));
+        }
     }
 
     void checkDecalKeys(const json& j, const std::string& path) const {

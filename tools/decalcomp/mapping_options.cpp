@@ -30,8 +30,8 @@ void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<s
             [&options](const std::string& value) {
                 const auto comma = value.find(',');
                 options.normal_space = value.substr(0, comma);
-                const bool packed = comma != std::string::npos && value.substr(comma + 1) == "packed";
-                options.normal_encoding = packed ? "unsigned" : "signed";  // the profiles' word for packed
+                if (comma != std::string::npos)  // without it, the encoding stays the profile's (or checked)
+                    options.normal_encoding = value.substr(comma + 1) == "packed" ? "unsigned" : "signed";
             },
             "Normal pass space and encoding: world|camera[,signed|packed] (default: the profile's, checked "
             "against the depth pass)")
