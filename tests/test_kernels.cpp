@@ -7,6 +7,7 @@
 #include <random>
 
 #include "decalcomp/compositor.hpp"
+#include "decalcomp/error.hpp"
 #include "decalcomp/reference.hpp"
 #include "decalcomp/synth.hpp"
 #include "shared_types.h"
@@ -305,6 +306,33 @@ TEST(Kernels, VolumeMipMatchesReference) {
     for (Decal& d : decals.decals) d.filter = TextureFilter::Linear;
     const auto [level0, c0] = compositeAndCompare(f, decals);
     EXPECT_NE(level0.planes.at(Attribute::Albedo).samples, out.planes.at(Attribute::Albedo).samples);
+}
+
+}  // namespace
+}  // namespace decalcomp
+
+namespace decalcomp {
+namespace {
+
+// setDecals (animated batches) keeps the uploaded textures: the same decals give the same bits as
+// a full setScene, and indices beyond the uploaded textures are refused.
+TEST(Kernels, SetDecalsMatchesSetScene) {
+    const test::RandomFrame f = test::makeRandomFrame(7);
+    const DecalScene scene = test::makeRandomDecals(f, 7, 120);
+    Compositor full(test::cpuDevice()), swapped(test::cpuDevice());
+    full.setScene(scene);
+    DecalScene first_half = scene;
+    first_half.decals.resize(scene.decals.size() / 2);
+    swapped.setScene(first_half);
+    swapped.setDecals(scene.decals);
+    GBuffer a = f.gbuffer, b = f.gbuffer;
+    full.composite(a, f.camera);
+    swapped.composite(b, f.camera);
+    EXPECT_EQ(a.planes.at(Attribute::Albedo).samples, b.planes.at(Attribute::Albedo).samples);
+    EXPECT_NE(a.planes.at(Attribute::Albedo).samples, f.gbuffer.planes.at(Attribute::Albedo).samples);
+    Decal stray = scene.decals.front();
+    stray.albedo_texture = int(scene.textures.size());
+    EXPECT_THROW(swapped.setDecals({stray}), Error);
 }
 
 }  // namespace

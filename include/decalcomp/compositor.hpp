@@ -46,6 +46,9 @@ public:
 
     // Uploads the scene's textures once; decals are re-prepared per frame (they depend on the camera).
     void setScene(const DecalScene& scene);
+    // Replaces the decals only, keeping the uploaded textures and masks (animated sequences: the
+    // decals change per frame, their textures do not). Throws Error(Input) for indices out of range.
+    void setDecals(const std::vector<Decal>& decals);
 
     // Blends the scene's decals into the frame's material planes in place (albedo, and the normal,
     // roughness, metallic, ao and emission planes the frame has and some decal changes).

@@ -191,12 +191,11 @@ public:
         std::vector<std::string> warnings = missingAttributeWarnings(compositedAttributes(scene_), mapping, request_.input);
         evaluateMasks(files, mapping, scene_, gbuffer, &warnings);
         noteWarnings(warnings);
-        // Per-frame decals go through setScene, which also re-uploads the textures (a Compositor
-        // call that replaces only the decals would save that; static scenes never pay it).
+        // Per-frame decals replace the decals only; the textures were uploaded once.
         timer.reset();
         if (animated_) {
             StageTimer t{timings.set_scene_s};
-            compositor.setScene(work_scene);
+            compositor.setDecals(work_scene.decals);
         }
         {
             StageTimer t{timings.composite_s};
@@ -289,7 +288,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     DecalScene scene;
     std::unique_ptr<ComputeDevice> device;
     std::vector<std::unique_ptr<Compositor>> compositors;
-    std::vector<DecalScene> work_scenes;  // per worker: the base textures, this frame's decals
+    std::vector<DecalScene> work_scenes;  // per worker: this frame's decals (textures stay on the device)
     const int workers = std::max(1, request.composite_workers);
     if (!request.io_only) {
         scene = loadScene(request.scene);
@@ -299,7 +298,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
             for (int w = 0; w < workers; ++w) {
                 compositors.push_back(std::make_unique<Compositor>(*device));
                 compositors.back()->setScene(scene);
-                work_scenes.push_back(DecalScene{scene.textures, {}, scene.masks});
+                work_scenes.push_back(DecalScene{{}, {}, scene.masks});
             }
         }
     }

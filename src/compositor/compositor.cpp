@@ -128,24 +128,30 @@ Compositor::~Compositor() = default;
 
 void Compositor::setScene(const DecalScene& scene) {
     const PackedTextures packed = packTextures(scene.textures);
-    for (const Decal& d : scene.decals)
-        for (int index : {d.albedo_texture, d.normal_texture, d.orm_texture, d.emission_texture})
-            if (index >= int(scene.textures.size()))
-                throw inputError(fmt::format("decal '{}': texture index {} out of range", d.name, index));
     try {
         state_->texture_table = makeBuffer(device_.context(), CL_MEM_READ_ONLY, packed.table);
         state_->texels = makeBuffer(device_.context(), CL_MEM_READ_ONLY, packed.texels);
     } catch (const cl::Error& e) {
         throw deviceError(fmt::format("{}: uploading decal textures: {}", device_.info().name, clErrorName(e.err())));
     }
-    for (const Decal& d : scene.decals)
-        if (d.mask >= int(scene.masks.size()))
-            throw inputError(fmt::format("decal '{}': mask index {} out of range", d.name, d.mask));
-    state_->scene.decals = scene.decals;
     state_->texture_entries = packed.first_entry;
     state_->mask_count = scene.masks.size();
     state_->scene.textures.clear();
-    state_->targets = sceneTargets(scene);
+    state_->scene.decals.clear();
+    setDecals(scene.decals);
+}
+
+void Compositor::setDecals(const std::vector<Decal>& decals) {
+    const int textures = int(state_->texture_entries.size());
+    for (const Decal& d : decals) {
+        for (int index : {d.albedo_texture, d.normal_texture, d.orm_texture, d.emission_texture})
+            if (index >= textures)
+                throw inputError(fmt::format("decal '{}': texture index {} out of range", d.name, index));
+        if (d.mask >= int(state_->mask_count))
+            throw inputError(fmt::format("decal '{}': mask index {} out of range", d.name, d.mask));
+    }
+    state_->scene.decals = decals;
+    state_->targets = sceneTargets(state_->scene);
 }
 
 CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const CompositeOptions& options) {
