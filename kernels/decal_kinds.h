@@ -93,15 +93,16 @@ DC_INLINE DcLookup dc_decal_lookup(__global const DcDecal* d, float3 p, float3 n
 /* One texture of the decal's set at the lookup's coordinates, with the decal's filter;
  * premultiplied RGBA. Mip levels come from the footprint mapped the same way. */
 DC_INLINE float4 dc_lookup_texel(__global const DcDecal* d, DcLookup lk, __global const DcTexture* textures,
-                                 __global const float4* texels, int index) {
+                                 __global const float4* texels, int index, const int variant) {
     const float3 c = lk.coord;
-    if (d->kind == DC_KIND_VOLUME) {
+    const bool flat = (variant & DC_VARIANT_FLAT) != 0;
+    if (!flat && d->kind == DC_KIND_VOLUME) {
         if (d->filter != DC_FILTER_MIP) return dc_sample_3d(texels, textures[index], c.x, c.y, c.z, d->filter);
         /* quadrilinear in the volume's 3D mip chain; (s, t, r) moves with local space up to a sign */
         const float lod = lk.has_footprint ? dc_lod_volume(c, lk.coord_dx, lk.coord_dy, textures[index]) : 1e9f;
         return dc_sample_chain(texels, textures, index, c.x, c.y, c.z, 0, lod, DC_LEVEL_VOLUME);
     }
-    const int cube = d->kind == DC_KIND_CUBE;
+    const int cube = !flat && d->kind == DC_KIND_CUBE;
     if (d->filter == DC_FILTER_MIP) {
         const float lod = lk.has_footprint ? dc_lod(c.xy, lk.coord_dx.xy, lk.coord_dy.xy, textures[index]) : 1e9f;
         return dc_sample_chain(texels, textures, index, c.x, c.y, 0.0f, lk.face, lod,

@@ -104,11 +104,12 @@ inline bool dc_targets(__constant const DcFrame* frame, __global const DcDecal* 
 }
 
 /* Blends one decal into the surface. `weight` is opacity times mask; `surface_normal` the
- * G-buffer's normal in camera space (valid when the frame has normals). `albedo_only` (a constant
- * in the albedo-only kernel) compiles the other targets away. */
+ * G-buffer's normal in camera space (valid when the frame has normals). `variant` (DC_VARIANT_x, a
+ * literal per kernel) compiles away what the kernel excludes. */
 DC_INLINE DcSurface dc_apply_decal(__constant const DcFrame* frame, __global const DcDecal* d, DcLookup lk,
                                    __global const DcTexture* textures, __global const float4* texels, float weight,
-                                   float3 surface_normal, DcSurface s, const bool albedo_only) {
+                                   float3 surface_normal, DcSurface s, const int variant) {
+    const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
     const bool want_albedo = dc_targets(frame, d, DC_TARGET_ALBEDO);
     const bool want_normal = !albedo_only && dc_targets(frame, d, DC_TARGET_NORMAL) && d->normal_texture >= 0;
     const bool want_orm = !albedo_only && d->orm_texture >= 0 &&
@@ -117,13 +118,13 @@ DC_INLINE DcSurface dc_apply_decal(__constant const DcFrame* frame, __global con
     const bool want_emission = !albedo_only && dc_targets(frame, d, DC_TARGET_EMISSION);
     /* Coverage is the albedo's alpha; without an albedo, the first texture of the set's. */
     float4 albedo = (float4)(0.0f), normal = (float4)(0.0f), orm = (float4)(0.0f), emission = (float4)(0.0f);
-    if (d->texture >= 0) albedo = dc_lookup_texel(d, lk, textures, texels, d->texture);
+    if (d->texture >= 0) albedo = dc_lookup_texel(d, lk, textures, texels, d->texture, variant);
     if (want_normal || (d->texture < 0 && d->normal_texture >= 0))
-        normal = dc_lookup_texel(d, lk, textures, texels, d->normal_texture);
+        normal = dc_lookup_texel(d, lk, textures, texels, d->normal_texture, variant);
     if (want_orm || (d->texture < 0 && d->normal_texture < 0 && d->orm_texture >= 0))
-        orm = dc_lookup_texel(d, lk, textures, texels, d->orm_texture);
+        orm = dc_lookup_texel(d, lk, textures, texels, d->orm_texture, variant);
     if (d->emission_texture >= 0 && (want_emission || (d->texture < 0 && d->normal_texture < 0 && d->orm_texture < 0)))
-        emission = dc_lookup_texel(d, lk, textures, texels, d->emission_texture);
+        emission = dc_lookup_texel(d, lk, textures, texels, d->emission_texture, variant);
     const float coverage = d->texture >= 0            ? albedo.w
                            : d->normal_texture >= 0   ? normal.w
                            : d->orm_texture >= 0      ? orm.w

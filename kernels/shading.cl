@@ -22,8 +22,8 @@ inline float3 dc_camera_to_world_vector(__constant const DcFrame* f, float3 v) {
                               m[2] * v.x + m[6] * v.y + m[10] * v.z));
 }
 
-/* One pixel. `albedo_only` is a literal in each kernel below, so the albedo-only kernel carries
- * none of the other targets' or the blast occlusion's code (fewer registers, faster loops). */
+/* One pixel. `variant` (DC_VARIANT_x) is a literal in each kernel below, so the lean kernels carry
+ * none of the code they exclude (fewer registers, faster loops: docs/benchmarks.md). */
 inline void dc_shade_pixel(__constant const DcFrame* frame, __read_only image2d_t depth_image,
                            __read_only image2d_t position_image, __read_only image2d_t surface0_in,
                            __read_only image2d_t surface1_in, __read_only image2d_t surface2_in,
@@ -31,7 +31,8 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __read_only image2d_
                            __global const DcDecal* decals, __global const DcTexture* textures,
                            __global const float4* texels, __global const int* tile_offsets,
                            __global const int* tile_decals, int binned, __global const float* mask_weights,
-                           __global const uint* occlusion_maps, const bool albedo_only) {
+                           __global const uint* occlusion_maps, const int variant) {
+    const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
     const int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame->width || y >= frame->height) return;
     const int2 xy = (int2)(x, y);
@@ -76,7 +77,7 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __read_only image2d_
             float weight = d->opacity;
             if (d->mask >= 0)
                 weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
-            s = dc_apply_decal(frame, d, lk, textures, texels, weight, normal, s, albedo_only);
+            s = dc_apply_decal(frame, d, lk, textures, texels, weight, normal, s, variant);
         }
         out0 = (float4)(s.albedo, s.roughness);
         out1 = (float4)(s.normal_changed ? dc_camera_to_world_vector(frame, s.normal) : in1.xyz, s.metallic);
@@ -95,15 +96,16 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __read_only image2d_
         __global const DcDecal *decals, __global const DcTexture *textures, __global const float4 *texels,       \
         __global const int *tile_offsets, __global const int *tile_decals, int binned,                           \
         __global const float *mask_weights, __global const uint *occlusion_maps
-#define DC_SHADE_CALL(ALBEDO_ONLY)                                                                          \
+#define DC_SHADE_CALL(VARIANT)                                                                              \
     dc_shade_pixel(frame, depth_image, position_image, surface0_in, surface1_in, surface2_in, surface0_out, \
                    surface1_out, surface2_out, decals, textures, texels, tile_offsets, tile_decals, binned, \
-                   mask_weights, occlusion_maps, ALBEDO_ONLY)
+                   mask_weights, occlusion_maps, VARIANT)
 
-/* Every target and blast occlusion. */
-__kernel void dc_shade(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(false); }
-/* Scenes that change only the albedo and have no blast occlusion (the host picks). */
-__kernel void dc_shade_albedo(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(true); }
+/* Every target, kind and blast occlusion; then leaner kernels the host picks when a scene fits. */
+__kernel void dc_shade(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(0); }
+__kernel void dc_shade_flat(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_FLAT); }
+__kernel void dc_shade_albedo(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_ALBEDO_ONLY); }
+__kernel void dc_shade_albedo_flat(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT); }
 
 #undef DC_SHADE_ARGUMENTS
 #undef DC_SHADE_CALL

@@ -48,6 +48,11 @@ namespace decalcomp::cl_types {
 #define DC_OP_ADD 2
 #define DC_OP_REPLACE 3
 
+/* Shading-kernel variants (a literal in each kernel, so the compiler drops what a variant
+ * excludes; the host picks the leanest that fits the scene). */
+#define DC_VARIANT_ALBEDO_ONLY 1 /* no other target, no blast occlusion */
+#define DC_VARIANT_FLAT 2        /* box and frustum decals only: no cube or volume lookups */
+
 /* How a decal's normal map combines with the surface normal. */
 #define DC_NORMAL_RNM 0 /* reoriented normal mapping */
 #define DC_NORMAL_UDN 1

@@ -7,8 +7,8 @@
 #include <numeric>
 
 #include "compositor/kernel_params.hpp"
-#include "compositor/surface_planes.hpp"
 #include "compositor/occlusion_maps.hpp"
+#include "compositor/surface_planes.hpp"
 #include "decalcomp/error.hpp"
 
 namespace decalcomp {
@@ -16,7 +16,7 @@ namespace decalcomp {
 namespace {
 
 constexpr int kBinGroupSize = 64;  // work-items per group in the binning kernels
-constexpr int kCoarse = 4;          // DC_COARSE in kernels/binning.cl: tiles per coarse tile side
+constexpr int kCoarse = 4;         // DC_COARSE in kernels/binning.cl: tiles per coarse tile side
 
 std::size_t roundUp(std::size_t n, std::size_t multiple) { return (n + multiple - 1) / multiple * multiple; }
 
@@ -86,17 +86,21 @@ std::vector<Attribute> compositedAttributes(const DecalScene& scene) {
     std::vector<Attribute> out = {Attribute::Albedo};
     const std::array<bool, kDecalTargets> targets = sceneTargets(scene);
     for (int t = 0; t < kDecalTargets; ++t)
-        if (targets[std::size_t(t)] && DecalTarget(t) != DecalTarget::Albedo) out.push_back(targetAttribute(DecalTarget(t)));
+        if (targets[std::size_t(t)] && DecalTarget(t) != DecalTarget::Albedo)
+            out.push_back(targetAttribute(DecalTarget(t)));
     return out;
 }
 
 struct Compositor::State {
-    cl::Kernel tile_bounds, decal_bounds, coarse_depth, coarse_mask, coarse_count, coarse_fill, bin_count, bin_fill, shade, shade_albedo, occlusion;
+    cl::Kernel tile_bounds, decal_bounds, coarse_depth, coarse_mask, coarse_count, coarse_fill, bin_count, bin_fill,
+        occlusion;
+    // shading kernels by variant bits (DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT)
+    std::array<cl::Kernel, 4> shade;
     cl::Buffer texture_table, texels;
     std::size_t mask_count = 0;
-    std::vector<int> texture_entries;  // scene texture index -> texture table entry
+    std::vector<int> texture_entries;           // scene texture index -> texture table entry
     std::array<bool, kDecalTargets> targets{};  // what the scene's decals change
-    DecalScene scene;  // decals only; textures live on the device
+    DecalScene scene;                           // decals only; textures live on the device
     // last frame's binning, kept for lastBinning()
     cl::Buffer tile_depth, tile_offsets, tile_decals;
     int tiles_x = 0, tiles_y = 0;
@@ -115,8 +119,10 @@ Compositor::Compositor(ComputeDevice& device) : device_(device), state_(std::mak
         state_->coarse_fill = cl::Kernel(program, "dc_coarse_fill");
         state_->bin_count = cl::Kernel(program, "dc_bin_count");
         state_->bin_fill = cl::Kernel(program, "dc_bin_fill");
-        state_->shade = cl::Kernel(program, "dc_shade");
-        state_->shade_albedo = cl::Kernel(program, "dc_shade_albedo");
+        state_->shade[0] = cl::Kernel(program, "dc_shade");
+        state_->shade[DC_VARIANT_FLAT] = cl::Kernel(program, "dc_shade_flat");
+        state_->shade[DC_VARIANT_ALBEDO_ONLY] = cl::Kernel(program, "dc_shade_albedo");
+        state_->shade[DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT] = cl::Kernel(program, "dc_shade_albedo_flat");
         state_->occlusion = cl::Kernel(program, "dc_occlusion_build");
     } catch (const cl::Error& e) {
         throw deviceError(fmt::format("{}: {}: {}", device_.info().name, e.what(), clErrorName(e.err())));
@@ -204,9 +210,11 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         std::array<cl::Buffer, kSurfaceGroups> surface_out;
         for (int g = 0; g < kSurfaceGroups; ++g) {
             const bool used = surface.groupUsed(g);
-            surface_in[std::size_t(g)] = used ? makeImage(context, frame.width, frame.height, 4, surface.groups[std::size_t(g)])
-                                              : placeholderImage(context, 4);
-            surface_out[std::size_t(g)] = cl::Buffer(context, CL_MEM_WRITE_ONLY, (used ? pixels : 1) * sizeof(cl_float4));
+            surface_in[std::size_t(g)] =
+                used ? makeImage(context, frame.width, frame.height, 4, surface.groups[std::size_t(g)])
+                     : placeholderImage(context, 4);
+            surface_out[std::size_t(g)] =
+                cl::Buffer(context, CL_MEM_WRITE_ONLY, (used ? pixels : 1) * sizeof(cl_float4));
         }
         cl::Buffer decal_buffer = makeBuffer(context, CL_MEM_READ_ONLY, decals);
         cl::Buffer mask_buffer = makeBuffer(context, CL_MEM_READ_ONLY, packMaskWeights(frame, s.mask_count));
@@ -221,20 +229,22 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             s.tile_bounds.setArg(1, depth);
             s.tile_bounds.setArg(2, position);
             s.tile_bounds.setArg(3, s.tile_depth);
-            queue.enqueueNDRangeKernel(s.tile_bounds, cl::NullRange,
-                                       cl::NDRange(std::size_t(params.tiles_x) * DC_TILE_SIZE,
-                                                   std::size_t(params.tiles_y) * DC_TILE_SIZE),
-                                       cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE), nullptr, &e_tiles);
+            queue.enqueueNDRangeKernel(
+                s.tile_bounds, cl::NullRange,
+                cl::NDRange(std::size_t(params.tiles_x) * DC_TILE_SIZE, std::size_t(params.tiles_y) * DC_TILE_SIZE),
+                cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE), nullptr, &e_tiles);
 
             cl::Buffer bounds(context, CL_MEM_READ_WRITE, decals.size() * sizeof(cl_types::DcDecalBounds));
             s.decal_bounds.setArg(0, frame_buffer);
             s.decal_bounds.setArg(1, decal_buffer);
             s.decal_bounds.setArg(2, bounds);
-            queue.enqueueNDRangeKernel(s.decal_bounds, cl::NullRange, cl::NDRange(roundUp(decals.size(), kBinGroupSize)),
-                                       cl::NDRange(kBinGroupSize), nullptr, &e_bounds);
+            queue.enqueueNDRangeKernel(s.decal_bounds, cl::NullRange,
+                                       cl::NDRange(roundUp(decals.size(), kBinGroupSize)), cl::NDRange(kBinGroupSize),
+                                       nullptr, &e_bounds);
 
             // Level 1: coarse tiles against every decal.
-            const int coarse_x = (params.tiles_x + kCoarse - 1) / kCoarse, coarse_y = (params.tiles_y + kCoarse - 1) / kCoarse;
+            const int coarse_x = (params.tiles_x + kCoarse - 1) / kCoarse,
+                      coarse_y = (params.tiles_y + kCoarse - 1) / kCoarse;
             const std::size_t coarse = std::size_t(coarse_x) * coarse_y;
             const cl::NDRange coarse_range(roundUp(coarse, kBinGroupSize));
             cl::Buffer coarse_depth(context, CL_MEM_READ_WRITE, coarse * sizeof(cl_float2));
@@ -260,7 +270,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             queue.enqueueNDRangeKernel(s.coarse_count, cl::NullRange, coarse_range, cl::NullRange, nullptr, &e_ccount);
             const std::vector<int> coarse_offsets = prefixSum(queue, coarse_counts, coarse);
             cl::Buffer coarse_offset_buffer = makeBuffer(context, CL_MEM_READ_ONLY, coarse_offsets);
-            cl::Buffer coarse_lists(context, CL_MEM_READ_WRITE, std::size_t(std::max(coarse_offsets.back(), 1)) * sizeof(cl_int));
+            cl::Buffer coarse_lists(context, CL_MEM_READ_WRITE,
+                                    std::size_t(std::max(coarse_offsets.back(), 1)) * sizeof(cl_int));
             s.coarse_fill.setArg(0, frame_buffer);
             s.coarse_fill.setArg(1, masks);
             s.coarse_fill.setArg(2, chunk_starts);
@@ -282,7 +293,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             const std::int64_t total = offsets.back();
             s.bin_entries = total;
             queue.enqueueWriteBuffer(s.tile_offsets, CL_FALSE, 0, offsets.size() * sizeof(int), offsets.data());
-            s.tile_decals = cl::Buffer(context, CL_MEM_READ_WRITE, std::size_t(std::max<std::int64_t>(total, 1)) * sizeof(cl_int));
+            s.tile_decals =
+                cl::Buffer(context, CL_MEM_READ_WRITE, std::size_t(std::max<std::int64_t>(total, 1)) * sizeof(cl_int));
             s.bin_fill.setArg(0, frame_buffer);
             s.bin_fill.setArg(1, bounds);
             s.bin_fill.setArg(2, s.tile_depth);
@@ -293,8 +305,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             queue.enqueueNDRangeKernel(s.bin_fill, cl::NullRange, tile_range, cl::NullRange, nullptr, &e_fill);
             queue.finish();
             stats.tile_bounds_ms = eventMs(e_tiles);
-            stats.binning_ms = eventMs(e_bounds) + eventMs(e_cdepth) + eventMs(e_cmask) + eventMs(e_ccount) + eventMs(e_cfill) +
-                               eventMs(e_count) + eventMs(e_fill);
+            stats.binning_ms = eventMs(e_bounds) + eventMs(e_cdepth) + eventMs(e_cmask) + eventMs(e_ccount) +
+                               eventMs(e_cfill) + eventMs(e_count) + eventMs(e_fill);
             stats.bin_entries = s.bin_entries;
             s.tiles_x = params.tiles_x;
             s.tiles_y = params.tiles_y;
@@ -306,15 +318,19 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         }
 
         cl::Event e_occlusion;
-        const cl::Buffer occlusion_maps = buildOcclusionMaps(context, queue, s.occlusion, occlusion, frame_buffer, depth,
-                                                             position, decal_buffer, frame.width, frame.height,
-                                                             &e_occlusion);
+        const cl::Buffer occlusion_maps =
+            buildOcclusionMaps(context, queue, s.occlusion, occlusion, frame_buffer, depth, position, decal_buffer,
+                               frame.width, frame.height, &e_occlusion);
 
         cl::Event e_shade;
-        // Scenes that change only the albedo, without blast occlusion, take the lean kernel.
+        // The leanest shading kernel that fits: albedo only without blast occlusion; 2D kinds only.
         const bool albedo_only = occlusion.occluders.empty() &&
                                  std::none_of(s.targets.begin() + 1, s.targets.end(), [](bool t) { return t; });
-        cl::Kernel& shade = albedo_only ? s.shade_albedo : s.shade;
+        const bool flat = std::all_of(s.scene.decals.begin(), s.scene.decals.end(), [](const Decal& d) {
+            return d.kind == DecalKind::Box || d.kind == DecalKind::Frustum;
+        });
+        cl::Kernel& shade =
+            s.shade[std::size_t((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0))];
         shade.setArg(0, frame_buffer);
         shade.setArg(1, depth);
         shade.setArg(2, position);
@@ -330,8 +346,9 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         shade.setArg(14, cl_int(options.binned && !decals.empty() ? 1 : 0));
         shade.setArg(15, mask_buffer);
         shade.setArg(16, occlusion_maps);
-        queue.enqueueNDRangeKernel(shade, cl::NullRange, cl::NDRange(std::size_t(frame.width), std::size_t(frame.height)),
-                                   cl::NullRange, nullptr, &e_shade);
+        queue.enqueueNDRangeKernel(shade, cl::NullRange,
+                                   cl::NDRange(std::size_t(frame.width), std::size_t(frame.height)), cl::NullRange,
+                                   nullptr, &e_shade);
         std::array<std::vector<float>, kSurfaceGroups> results;
         for (int g = 0; g < kSurfaceGroups; ++g) {
             if (!surface.groupUsed(g)) continue;
