@@ -351,7 +351,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                                    nullptr, &e_shade);
         std::array<std::vector<float>, kSurfaceGroups> results;
         for (int g = 0; g < kSurfaceGroups; ++g) {
-            if (!surface.groupUsed(g)) continue;
+            if (!groupWrittenBack(surface, s.targets, g)) continue;
             results[std::size_t(g)].resize(pixels * 4);
             queue.enqueueReadBuffer(surface_out[std::size_t(g)], CL_TRUE, 0, pixels * sizeof(cl_float4),
                                     results[std::size_t(g)].data());

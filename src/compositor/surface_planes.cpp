@@ -95,6 +95,14 @@ SurfacePlanes packSurface(const GBuffer& frame, const Camera& camera, const std:
     return out;
 }
 
+bool groupWrittenBack(const SurfacePlanes& uploaded, const std::array<bool, kDecalTargets>& targets, int group) {
+    for (int t = 0; t < kDecalTargets; ++t)
+        if (slotOf(DecalTarget(t)).group == group && (uploaded.attributes & (1 << t)) &&
+            (DecalTarget(t) == DecalTarget::Albedo || targets[std::size_t(t)]))
+            return true;
+    return false;
+}
+
 void unpackSurface(GBuffer& frame, const Camera& camera, const SurfacePlanes& uploaded,
                    const std::array<std::vector<float>, kSurfaceGroups>& results,
                    const std::array<bool, kDecalTargets>& targets) {

@@ -25,6 +25,10 @@ struct SurfacePlanes {
 SurfacePlanes packSurface(const GBuffer& frame, const Camera& camera, const std::array<bool, kDecalTargets>& targets,
                           bool with_normals);
 
+// Whether group g holds a plane unpackSurface writes back (the albedo, or a target some decal
+// changes); groups uploaded only to be read (normals for fades) need no read-back.
+bool groupWrittenBack(const SurfacePlanes& uploaded, const std::array<bool, kDecalTargets>& targets, int group);
+
 // Writes the kernel's `results` for `targets` back into the frame's planes. Pixels whose
 // decoded normal came back unchanged keep their original samples bit for bit; changed normals are
 // encoded back into the frame's space and encoding.
