@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "decalcomp/normal_codec.hpp"
 #include "shared_types.h"
 
 namespace decalcomp {
@@ -31,23 +32,6 @@ int componentsOf(DecalTarget target) {
 
 bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-glm::dmat3 cameraRotation(const Camera& camera) { return glm::dmat3(camera.world_to_camera); }
-
-// File normal -> world-space vector (not renormalised: unchanged pixels must round-trip).
-glm::vec3 decodeNormal(const glm::vec3& stored, const NormalEncoding& encoding, const glm::dmat3& to_world) {
-    glm::dvec3 n(stored);
-    if (encoding.packed) n = n * 2.0 - 1.0;
-    if (encoding.space == NormalSpace::Camera) n = to_world * n;
-    return glm::vec3(n);
-}
-
-glm::vec3 encodeNormal(const glm::vec3& world, const NormalEncoding& encoding, const glm::dmat3& to_camera) {
-    glm::dvec3 n(world);
-    if (encoding.space == NormalSpace::Camera) n = glm::normalize(to_camera * n);
-    if (encoding.packed) n = n * 0.5 + 0.5;
-    return glm::vec3(n);
-}
-
 }  // namespace
 
 Attribute targetAttribute(DecalTarget target) {
@@ -66,9 +50,7 @@ SurfacePlanes packSurface(const GBuffer& frame, const Camera& camera, const std:
                           bool with_normals) {
     SurfacePlanes out;
     const std::size_t pixels = frame.pixelCount();
-    // Normals go from the file's space to world: camera-space normals by the transpose of the
-    // camera rotation (the inverse transpose of camera -> world).
-    const glm::dmat3 to_world = glm::transpose(cameraRotation(camera));
+    const NormalCodec normals(frame.normal_encoding, camera);
     for (int t = 0; t < kDecalTargets; ++t) {
         const auto target = DecalTarget(t);
         const Attribute attribute = targetAttribute(target);
@@ -84,7 +66,7 @@ SurfacePlanes packSurface(const GBuffer& frame, const Camera& camera, const std:
             if (target == DecalTarget::Normal) {
                 glm::vec3 stored(0.0f);
                 for (int c = 0; c < copy; ++c) stored[c] = plane.at(i, c);
-                const glm::vec3 n = decodeNormal(stored, frame.normal_encoding, to_world);
+                const glm::vec3 n = normals.toWorld(stored);
                 for (int c = 0; c < 3; ++c) group[i * 4 + std::size_t(c)] = n[c];
             } else {
                 for (int c = 0; c < copy; ++c) group[i * 4 + std::size_t(slot.first + c)] = plane.at(i, c);
@@ -107,7 +89,7 @@ void unpackSurface(GBuffer& frame, const Camera& camera, const SurfacePlanes& up
                    const std::array<std::vector<float>, kSurfaceGroups>& results,
                    const std::array<bool, kDecalTargets>& targets) {
     const std::size_t pixels = frame.pixelCount();
-    const glm::dmat3 to_camera = glm::inverse(glm::transpose(cameraRotation(camera)));
+    const NormalCodec normals(frame.normal_encoding, camera);
     for (int t = 0; t < kDecalTargets; ++t) {
         const auto target = DecalTarget(t);
         if (!(uploaded.attributes & (1 << t))) continue;
@@ -122,7 +104,7 @@ void unpackSurface(GBuffer& frame, const Camera& camera, const SurfacePlanes& up
             if (target == DecalTarget::Normal) {
                 const float* b = &before[i * 4];
                 if (sameBits(r[0], b[0]) && sameBits(r[1], b[1]) && sameBits(r[2], b[2])) continue;
-                const glm::vec3 n = encodeNormal(glm::vec3(r[0], r[1], r[2]), frame.normal_encoding, to_camera);
+                const glm::vec3 n = normals.toStored(glm::vec3(r[0], r[1], r[2]));
                 for (int c = 0; c < copy; ++c) plane.at(i, c) = n[c];
             } else {
                 for (int c = 0; c < copy; ++c) plane.at(i, c) = r[slot.first + c];

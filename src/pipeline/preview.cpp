@@ -11,6 +11,7 @@
 
 #include "decalcomp/camera_solve.hpp"
 #include "decalcomp/error.hpp"
+#include "decalcomp/normal_codec.hpp"
 #include "decalcomp/pipeline.hpp"
 #include "decalcomp/textures.hpp"
 
@@ -26,14 +27,13 @@ void writePreview(const GBuffer& before, const GBuffer& after, const Camera& cam
         pixels[(std::size_t(y) * out_w + x) * 3 + c] = (unsigned char)(encoded * 255.0f + 0.5f);
     };
     // Lambert with a fixed light from the upper left, in front of the scene, in camera space (-Z
-    // forward, +Y up), so it reads the same for any scene. World normals reach camera space by
-    // the inverse transpose of world_to_camera's 3x3 (its rotation when there is no scale).
+    // forward, +Y up), so it reads the same for any scene.
     const glm::vec3 light = glm::normalize(glm::vec3(-1.0f, 1.0f, 1.0f));
     const float ambient = 0.2f;
-    const glm::mat3 to_camera = glm::mat3(glm::transpose(glm::inverse(glm::dmat3(camera.world_to_camera))));
     auto put = [&](const GBuffer& g, int x_offset) {
         const Plane& albedo = g.planes.at(Attribute::Albedo);
         const Plane* normal = lit ? &g.planes.at(Attribute::Normal) : nullptr;
+        const NormalCodec normals(g.normal_encoding, camera);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const std::size_t p = std::size_t(y) * w + x;
@@ -41,9 +41,8 @@ void writePreview(const GBuffer& before, const GBuffer& after, const Camera& cam
                 for (int c = 0; c < std::min(3, albedo.components); ++c) a[c] = albedo.at(p, c);
                 for (int c = 0; c < 3; ++c) store(x + x_offset, y, c, a[c]);
                 if (!normal || !isGeometryPixel(g, p)) continue;  // background stays black
-                glm::vec3 n(normal->at(p, 0), normal->at(p, 1), normal->at(p, 2));
-                if (g.normal_encoding.packed) n = n * 2.0f - 1.0f;
-                if (g.normal_encoding.space == NormalSpace::World) n = to_camera * n;
+                const glm::vec3 n =
+                    normals.worldToCamera(normals.toWorld({normal->at(p, 0), normal->at(p, 1), normal->at(p, 2)}));
                 const float len = glm::length(n);
                 const float shade = len > 0.0f ? ambient + (1.0f - ambient) * std::max(0.0f, glm::dot(n / len, light))
                                                : 0.0f;
