@@ -21,8 +21,7 @@ struct BlenderFrame {
     ScratchDir dir;
     std::string exr = dir.file("frame.exr"), camera = dir.file("frame.json");
     BlenderFrame() {
-        const auto r = test::runCommand(shellQuote(DECALCOMP_GEN) + " --width 160 --height 90 --naming blender -o " +
-                                        shellQuote(exr) + " --camera " + shellQuote(camera));
+        const auto r = test::runGenerator("--width 160 --height 90 --naming blender", exr, camera);
         EXPECT_EQ(r.exit_code, 0) << r.output;
     }
     test::CommandResult composite(const std::string& output, const std::string& extra) const {
@@ -105,8 +104,7 @@ TEST(AddChannels, AttributesTheInputHasAreNotAddedAgain) {
 TEST(AddChannels, MultiPartOutputsMapTheAddedChannelsAgain) {
     ScratchDir dir;
     const std::string exr = dir.file("parts.exr"), camera = dir.file("parts.json"), out = dir.file("out.exr");
-    const auto g = test::runCommand(shellQuote(DECALCOMP_GEN) + " --width 160 --height 90 --naming generic --multipart -o " +
-                                    shellQuote(exr) + " --camera " + shellQuote(camera));
+    const auto g = test::runGenerator("--width 160 --height 90 --naming generic --multipart", exr, camera);
     ASSERT_EQ(g.exit_code, 0) << g.output;
     // drop the generator's roughness part so there is something to add
     ExrImage image = readExr(exr);

@@ -35,8 +35,7 @@ struct Generated {
 Generated generate(const ScratchDir& dir, const std::string& name, const std::string& arguments,
                    const MappingOptions& options = {}) {
     const std::string exr = dir.file(name + ".exr");
-    const auto r = test::runCommand(shellQuote(DECALCOMP_GEN) + " " + arguments + " -o " + shellQuote(exr) +
-                                    " --camera " + shellQuote(dir.file(name + ".json")));
+    const auto r = test::runGenerator(arguments, exr, dir.file(name + ".json"));
     EXPECT_EQ(r.exit_code, 0) << r.output;
     Generated g;
     g.image = readExr(exr);
@@ -317,10 +316,7 @@ TEST(CameraSolve, CompositeWithASolvedCameraMatchesTheSidecar) {
 TEST(CameraSolve, CliRefusesWithTheResidual) {
     ScratchDir dir;
     const std::string exr = dir.file("in.exr");
-    ASSERT_EQ(test::runCommand(shellQuote(DECALCOMP_GEN) + " --width 48 --height 32 --naming generic -o " +
-                               shellQuote(exr))
-                  .exit_code,
-              0);
+    ASSERT_EQ(test::runGenerator("--width 48 --height 32 --naming generic", exr).exit_code, 0);
     // Scramble the position pass in the file: P.X's pixels in reverse order.
     ExrImage image = readExr(exr);
     for (ExrChannel& c : image.parts[0].channels)

@@ -19,19 +19,7 @@
 namespace decalcomp {
 namespace {
 
-// Mapping looks only at names, so most images here exist only in memory (no samples).
-ExrImage imageWithChannels(const std::vector<std::string>& names) {
-    ExrImage image;
-    image.path = "in.exr";
-    ExrPart part;
-    for (const std::string& name : names) {
-        ExrChannel channel;
-        channel.name = channel.qualified = name;
-        part.channels.push_back(channel);
-    }
-    image.parts.push_back(part);
-    return image;
-}
+using test::imageWithChannels;
 
 std::string channelName(const ExrImage& image, const ChannelRef& ref) {
     return image.parts.at(ref.part).channels.at(ref.channel).qualified;

@@ -103,8 +103,7 @@ std::string rawHeader(const std::string& path) {
 }
 
 void gen(const std::string& arguments, const std::string& output, const std::string& camera) {
-    const auto r = test::runCommand(shellQuote(DECALCOMP_GEN) + " " + arguments + " -o " + shellQuote(output) +
-                                    " --camera " + shellQuote(camera));
+    const auto r = test::runGenerator(arguments, output, camera);
     ASSERT_EQ(r.exit_code, 0) << r.output;
 }
 

@@ -23,8 +23,7 @@ using test::shellQuote;
 const std::string kSize = "--width 96 --height 72";
 
 void gen(const std::string& arguments, const std::string& output, const std::string& camera = "") {
-    const auto r = test::runCommand(shellQuote(DECALCOMP_GEN) + " " + arguments + " -o " + shellQuote(output) +
-                                    (camera.empty() ? "" : " --camera " + shellQuote(camera)));
+    const auto r = test::runGenerator(arguments, output, camera);
     ASSERT_EQ(r.exit_code, 0) << r.output;
 }
 

@@ -18,22 +18,12 @@
 namespace decalcomp {
 namespace {
 
+using test::imageWithChannels;
+
 using test::ScratchDir;
 using test::shellQuote;
 using Names = std::vector<std::string>;
 
-ExrImage imageWithChannels(const Names& names) {
-    ExrImage image;
-    image.path = "in.exr";
-    ExrPart part;
-    for (const std::string& name : names) {
-        ExrChannel channel;
-        channel.name = channel.qualified = name;
-        part.channels.push_back(channel);
-    }
-    image.parts.push_back(part);
-    return image;
-}
 
 Names mapped(const ExrImage& image, const ChannelMapping& mapping, Attribute attribute) {
     Names names;
@@ -288,8 +278,7 @@ TEST(Profiles, BadProfileFilesNameTheFieldAndFile) {
 
 GBuffer generatedGBuffer(const ScratchDir& dir, const std::string& naming, ChannelMapping* mapping_out = nullptr) {
     const std::string exr = dir.file(naming + ".exr");
-    const auto r = test::runCommand(shellQuote(DECALCOMP_GEN) + " --width 40 --height 30 --naming " + naming + " -o " +
-                                    shellQuote(exr) + " --camera " + shellQuote(dir.file(naming + ".json")));
+    const auto r = test::runGenerator("--width 40 --height 30 --naming " + naming, exr, dir.file(naming + ".json"));
     EXPECT_EQ(r.exit_code, 0) << r.output;
     const ExrImage image = readExr(exr);
     const ChannelMapping mapping = mapChannels(image, MappingOptions{});
@@ -338,10 +327,7 @@ TEST(Profiles, GeneratorNamingsMapToTheSameGBuffer) {
 TEST(Profiles, CliProfileFileAndUnknownProfile) {
     ScratchDir dir;
     const std::string exr = dir.file("u.exr");
-    ASSERT_EQ(test::runCommand(shellQuote(DECALCOMP_GEN) + " --width 24 --height 16 --naming unreal -o " +
-                               shellQuote(exr))
-                  .exit_code,
-              0);
+    ASSERT_EQ(test::runGenerator("--width 24 --height 16 --naming unreal", exr).exit_code, 0);
     const auto info = test::runCli("info " + shellQuote(exr));
     EXPECT_EQ(info.exit_code, 0) << info.output;
     for (const char* needle : {"profile: unreal", "profile scores: unreal", "depth <- SceneDepthWorldUnits.R (unreal)",

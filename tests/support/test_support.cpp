@@ -1,5 +1,7 @@
 #include "support/test_support.hpp"
 
+#include <gtest/gtest.h>
+
 #include <sys/wait.h>
 
 #include <array>
@@ -8,6 +10,9 @@
 #include <random>
 #include <stdexcept>
 #include <unistd.h>
+
+#include "decalcomp/error.hpp"
+#include "decalcomp/scene.hpp"
 
 namespace decalcomp::test {
 
@@ -47,6 +52,37 @@ CommandResult runCommand(const std::string& command_line) {
 
 CommandResult runCli(const std::string& arguments) {
     return runCommand(shellQuote(DECALCOMP_CLI) + " " + arguments);
+}
+
+CommandResult runGenerator(const std::string& arguments, const std::string& output, const std::string& camera) {
+    return runCommand(shellQuote(DECALCOMP_GEN) + " " + arguments + " -o " + shellQuote(output) +
+                      (camera.empty() ? "" : " --camera " + shellQuote(camera)));
+}
+
+void expectSceneError(const std::string& scene_path, const std::string& expected) {
+    try {
+        loadScene(scene_path);
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        const std::string msg = e.what();
+        EXPECT_EQ(e.kind(), ErrorKind::Input);
+        EXPECT_EQ(msg.rfind(scene_path + ": ", 0), 0u) << msg;
+        EXPECT_NE(msg.find(expected), std::string::npos) << msg;
+        EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    }
+}
+
+ExrImage imageWithChannels(const std::vector<std::string>& names) {
+    ExrImage image;
+    image.path = "in.exr";
+    ExrPart part;
+    for (const std::string& name : names) {
+        ExrChannel channel;
+        channel.name = channel.qualified = name;
+        part.channels.push_back(channel);
+    }
+    image.parts.push_back(part);
+    return image;
 }
 
 }  // namespace decalcomp::test

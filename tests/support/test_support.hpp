@@ -2,6 +2,9 @@
 // Small helpers shared by the tests: scratch folders, running the CLI, data paths.
 #include <filesystem>
 #include <string>
+#include <vector>
+
+#include "decalcomp/exr_io.hpp"
 
 namespace decalcomp::test {
 
@@ -30,5 +33,15 @@ CommandResult runCommand(const std::string& command_line);
 // Runs the decalcomp CLI with the given arguments (already shell-quoted where needed).
 CommandResult runCli(const std::string& arguments);
 std::string shellQuote(const std::string& s);
+// Loads the scene file expecting an input error: one line that starts with the file's path and
+// contains `expected` (a JSON path and what is wrong there).
+void expectSceneError(const std::string& scene_path, const std::string& expected);
+
+// An image of one part with these channel names and no samples: channel mapping reads only names.
+ExrImage imageWithChannels(const std::vector<std::string>& names);
+
+// Runs decalcomp-gbuffer-gen with `arguments`, writing `output` (and the camera sidecar `camera`
+// when given, else the generator's default beside it).
+CommandResult runGenerator(const std::string& arguments, const std::string& output, const std::string& camera = "");
 
 }  // namespace decalcomp::test
