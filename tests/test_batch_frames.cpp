@@ -10,6 +10,8 @@
 #include <sstream>
 
 #include "decalcomp/batch.hpp"
+#include "decalcomp/batch_progress.hpp"
+#include "decalcomp/frame_cameras.hpp"
 #include "decalcomp/error.hpp"
 #include "support/test_support.hpp"
 
@@ -257,7 +259,7 @@ TEST(BatchProgressText, LinesAndBar) {
     BatchReport report;
     report.plan.frames = {1, 2};
     report.progress.total = 2;
-    report.device = "dev";
+    report.devices = {"dev"};
     std::ostringstream lines;
     ProgressPrinter printer(lines, ProgressStyle::Lines);
     printer.started(report);

@@ -15,6 +15,7 @@
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_io.hpp"
 #include "decalcomp/pipeline.hpp"
+#include "decalcomp/sequence_conventions.hpp"
 #include "decalcomp/synth.hpp"
 #include "support/test_support.hpp"
 

@@ -22,6 +22,10 @@ std::vector<DeviceInfo> listDevices();
 // platform contains it (case-insensitive). Throws Error(Device) listing the devices on no match.
 DeviceInfo selectDevice(const std::string& selector);
 
+// Several devices: "all" (every GPU, else every device), or selectDevice() selectors separated by
+// ',' ("0,1", "gpu,cpu"); naming one device twice gives two instances of it (two contexts).
+std::vector<DeviceInfo> selectDevices(const std::string& spec);
+
 // Names an OpenCL status code ("CL_INVALID_VALUE"), or "CL error N" for unknown codes.
 std::string clErrorName(int code);
 
@@ -29,6 +33,11 @@ std::string clErrorName(int code);
 class ComputeDevice {
 public:
     explicit ComputeDevice(const std::string& selector = "");
+    explicit ComputeDevice(DeviceInfo device);
+    // Embeds the compositor in a host application that owns OpenCL: its context, device and
+    // in-order queue. Kernel times (CompositeStats) are 0 unless the queue has profiling enabled.
+    ComputeDevice(const cl::Context& context, const cl::Device& device, const cl::CommandQueue& queue);
+    bool profiling() const { return profiling_; }
     const DeviceInfo& info() const { return info_; }
     cl::Context& context() { return context_; }
     cl::CommandQueue& queue() { return queue_; }
@@ -41,6 +50,7 @@ private:
     cl::CommandQueue queue_;
     cl::Program program_;
     bool built_ = false;
+    bool profiling_ = true;
 };
 
 // The program source handed to the OpenCL compiler: shared headers then kernels, in order.

@@ -1,5 +1,6 @@
-// The batch loop: one reader thread, compositing workers and one writer thread joined by bounded
-// queues, with OpenEXR's thread pool doing the decoding and encoding inside each read and write.
+// The batch loop over Frame: one reader thread, compositing workers (per device) and one writer
+// thread joined by bounded queues, with OpenEXR's thread pool decoding and encoding inside each
+// read and write.
 #include <OpenEXR/ImfThreading.h>
 #include <fmt/format.h>
 
@@ -16,7 +17,8 @@
 #include "decalcomp/batch.hpp"
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/device.hpp"
-#include "decalcomp/masks.hpp"
+#include "decalcomp/frame.hpp"
+#include "decalcomp/frame_cameras.hpp"
 #include "decalcomp/pipeline.hpp"
 #include "decalcomp/scene.hpp"
 
@@ -88,8 +90,8 @@ private:
 
 struct Job {
     int frame = 0;
-    std::string input, output;
-    std::vector<ExrImage> files;  // the frame's EXR (one file per frame today)
+    std::string output;  // for reports: the output pattern's path (or folder)
+    std::unique_ptr<Frame> work;
 };
 
 FrameResult failure(int frame, const std::string& output, const std::exception_ptr& error) {
@@ -110,14 +112,52 @@ FrameResult failure(int frame, const std::string& output, const std::exception_p
     return r;
 }
 
-// writeExrAtomic writes ".NAME.tmp-PID" beside NAME (src/io/exr_file.cpp). A run killed while
+// A pattern's path for the frame; a path without a frame token names the same file every frame.
+std::string pathAt(const std::string& pattern_or_path, int frame) {
+    return FramePattern::hasToken(pattern_or_path) ? FramePattern(pattern_or_path).path(frame) : pattern_or_path;
+}
+
+FrameSources frameSources(const BatchRequest& request, const BatchPlan& plan, int frame) {
+    FrameSources sources;
+    sources.inputs.push_back(plan.input.path(frame));
+    for (const std::string& extra : request.extra_inputs) sources.inputs.push_back(pathAt(extra, frame));
+    for (const auto& [attribute, pattern] : request.pass_files) sources.pass_files[attribute] = pathAt(pattern, frame);
+    return sources;
+}
+
+std::vector<std::string> frameInputs(const BatchRequest& request, const BatchPlan& plan, int frame) {
+    FrameSources sources = frameSources(request, plan, frame);
+    for (const auto& [attribute, path] : sources.pass_files) sources.inputs.push_back(path);
+    return sources.inputs;
+}
+
+// The files a frame's outputs may be: the pattern's path, or for a folder each of its input
+// files' names there (which of them change is known only once the frame's channels are mapped).
+std::vector<fs::path> candidateOutputs(const BatchRequest& request, const BatchPlan& plan, int frame) {
+    if (!plan.outputIsFolder()) return {fs::path(plan.outputAt(frame))};
+    const fs::path folder(plan.outputAt(frame));
+    std::vector<fs::path> paths;
+    for (const std::string& input : frameInputs(request, plan, frame))
+        paths.push_back(folder / fs::path(input).filename());
+    return paths;
+}
+
+// A frame is done when an output exists: the outputs of a frame are renamed into place together,
+// after all of them are complete.
+bool frameDone(const BatchRequest& request, const BatchPlan& plan, int frame) {
+    std::error_code ec;
+    for (const fs::path& path : candidateOutputs(request, plan, frame))
+        if (fs::is_regular_file(path, ec)) return true;
+    return false;
+}
+
+// writeExrTemporary writes ".NAME.tmp-PID" beside NAME (src/io/exr_file.cpp). A run killed while
 // writing leaves one behind; the next run removes those of its own frames (never another shard's).
-void removeStaleTemporaries(const BatchPlan& plan) {
+void removeStaleTemporaries(const BatchRequest& request, const BatchPlan& plan) {
     std::map<fs::path, std::set<std::string>> names;  // folder -> output file names
-    for (int frame : plan.frames) {
-        const fs::path out(plan.output.path(frame));
-        names[out.parent_path()].insert(out.filename().string());
-    }
+    for (int frame : plan.frames)
+        for (const fs::path& out : candidateOutputs(request, plan, frame))
+            names[out.parent_path()].insert(out.filename().string());
     for (const auto& [folder, files] : names) {
         std::error_code ec;
         const fs::path dir = folder.empty() ? fs::path(".") : folder;
@@ -133,9 +173,12 @@ void removeStaleTemporaries(const BatchPlan& plan) {
     }
 }
 
-void createOutputFolders(const BatchPlan& plan) {
+void createOutputFolders(const BatchRequest& request, const BatchPlan& plan) {
     std::set<fs::path> folders;
-    for (int frame : plan.frames) folders.insert(fs::path(plan.output.path(frame)).parent_path());
+    for (int frame : plan.frames)
+        for (const fs::path& out : candidateOutputs(request, plan, frame)) folders.insert(out.parent_path());
+    if (!request.preview.empty())
+        for (int frame : plan.frames) folders.insert(fs::path(FramePattern(request.preview).path(frame)).parent_path());
     for (const fs::path& folder : folders) {
         if (folder.empty()) continue;
         std::error_code ec;
@@ -144,117 +187,48 @@ void createOutputFolders(const BatchPlan& plan) {
     }
 }
 
-// State the compositing workers share: read-only inputs, and the depth convention settled once.
-class FrameCompositing {
+// One device's compositors, one per worker, each holding the scene's textures.
+struct DeviceWorkers {
+    std::unique_ptr<ComputeDevice> device;
+    std::vector<std::unique_ptr<Compositor>> compositors;
+};
+
+// Distinct warnings of all frames, reported once after the batch.
+class WarningSet {
 public:
-    FrameCompositing(const BatchRequest& request, const DecalScene& scene, const FrameCameras& cameras)
-        : request_(request), scene_(scene), cameras_(cameras), animated_(isAnimated(scene)) {}
-
-    // Composites one frame in place (its albedo channels) with this worker's compositor.
-    void composite(Job& job, Compositor& compositor, DecalScene& work_scene, BatchTimings& timings) {
-        std::vector<ExrImage>& files = job.files;
-        std::optional<StageTimer> timer;
-        timer.emplace(timings.map_extract_s);
-        ChannelMapping mapping = mapChannels(files, request_.mapping);
-        if (!mapping.attributes.count(Attribute::Albedo))
-            throw inputError(fmt::format("{}: no albedo channels found (profile {}); map them with --channel "
-                                         "albedo=R,G,B",
-                                         job.input, mapping.profile));
-        addAttributeChannels(files, mapping, request_.mapping);
-        const std::vector<Decal>* decals = &scene_.decals;
-        if (animated_) {
-            work_scene.decals = decalsAtFrame(scene_.decals, double(job.frame));
-            decals = &work_scene.decals;
-        }
-        if (decals->empty()) return;  // nothing alive on this frame: the output is the input
-
-        // As `composite` (src/pipeline/composite_file.cpp) does for one frame.
-        GBuffer gbuffer = extractGBuffer(files, mapping);
-        std::optional<Camera> camera = cameras_.explicitCamera(job.frame);
-        if (!camera) camera = resolveCamera(files, gbuffer, "");  // header, else solved
-        if (const std::optional<DepthConvention> settled = settledConvention()) {
-            gbuffer.depth_convention = *settled;
-            mapping.depth_convention = *settled;
-        } else {
-            const DepthCheck check = settleDepthConvention(gbuffer, mapping, *camera);
-            if (check.performed || !gbuffer.has(Attribute::Position)) settle(gbuffer.depth_convention);
-        }
-        if (gbuffer.has(Attribute::Normal)) {  // like the depth convention: one verdict for the sequence
-            if (const std::optional<NormalEncoding> settled = settledNormals()) {
-                gbuffer.normal_encoding = *settled;
-                mapping.normal_space = normalSpaceName(settled->space);
-                mapping.normal_encoding = settled->packed ? "unsigned" : "signed";
-            } else if (settleNormalEncoding(gbuffer, mapping, *camera).verdict) {
-                settleNormals(gbuffer.normal_encoding);
-            }
-        }
-        std::vector<std::string> warnings = missingAttributeWarnings(compositedAttributes(scene_), mapping, request_.input);
-        evaluateMasks(files, mapping, scene_, gbuffer, &warnings);
-        noteWarnings(warnings);
-        // Per-frame decals replace the decals only; the textures were uploaded once.
-        timer.reset();
-        if (animated_) {
-            StageTimer t{timings.set_scene_s};
-            compositor.setDecals(work_scene.decals);
-        }
-        {
-            StageTimer t{timings.composite_s};
-            timings.kernels_ms += compositor.composite(gbuffer, *camera, CompositeOptions{request_.binned}).totalKernelMs();
-        }
-        StageTimer t{timings.store_s};
-        for (Attribute attribute : compositedAttributes(scene_))
-            if (gbuffer.has(attribute)) storeAttribute(files, mapping, attribute, gbuffer.planes.at(attribute));
+    void add(const std::vector<std::string>& warnings) {
+        std::lock_guard lock(mutex_);
+        warnings_.insert(warnings.begin(), warnings.end());
     }
-
-private:
-    const BatchRequest& request_;
-    const DecalScene& scene_;
-    const FrameCameras& cameras_;
-    const bool animated_;
-    std::mutex mutex_;
-    std::optional<DepthConvention> settled_;
-    std::optional<NormalEncoding> settled_normals_;
-    std::set<std::string> warnings_;  // distinct warnings of all frames
-
-public:
-    std::vector<std::string> warnings() {
+    std::vector<std::string> list() {
         std::lock_guard lock(mutex_);
         return {warnings_.begin(), warnings_.end()};
     }
 
 private:
-    // The first frame whose normals fit one reading clearly settles it for the sequence.
-    std::optional<NormalEncoding> settledNormals() {
-        std::lock_guard lock(mutex_);
-        return settled_normals_;
-    }
-    void settleNormals(NormalEncoding encoding) {
-        std::lock_guard lock(mutex_);
-        if (!settled_normals_) settled_normals_ = encoding;
-    }
-    void noteWarnings(const std::vector<std::string>& warnings) {
-        std::lock_guard lock(mutex_);
-        warnings_.insert(warnings.begin(), warnings.end());
-    }
-
-    // The planar/radial check runs until one frame could perform it (or the frames have no
-    // position pass to check against); its verdict then holds for the whole sequence.
-    std::optional<DepthConvention> settledConvention() {
-        std::lock_guard lock(mutex_);
-        return settled_;
-    }
-    void settle(DepthConvention convention) {
-        std::lock_guard lock(mutex_);
-        if (!settled_) settled_ = convention;
-    }
+    std::mutex mutex_;
+    std::set<std::string> warnings_;
 };
 
 }  // namespace
 
+std::string BatchPlan::outputAt(int frame) const { return pathAt(output, frame); }
+bool BatchPlan::outputIsFolder() const { return isOutputFolder(output); }
+
 BatchPlan planBatch(const BatchRequest& request) {
     BatchPlan plan;
     plan.input = FramePattern(request.input);
-    plan.output = FramePattern(request.output);
+    plan.output = request.output;
+    if (!FramePattern::hasToken(request.output) && !isOutputFolder(request.output))
+        throw Error(ErrorKind::Usage, fmt::format("-o {}: give a frame pattern (out.####.exr) or a folder (out/), so "
+                                                  "frames do not overwrite each other",
+                                                  request.output));
+    if (FramePattern::hasToken(request.output)) FramePattern{request.output};  // exactly one token
+    if (!request.preview.empty()) FramePattern{request.preview};                // one preview per frame
+    for (const std::string& extra : request.extra_inputs)
+        if (FramePattern::hasToken(extra)) FramePattern{extra};
+    for (const auto& [attribute, pass] : request.pass_files)
+        if (FramePattern::hasToken(pass)) FramePattern{pass};
     const std::vector<int> frames = request.frames.empty() ? discoverFrames(plan.input) : parseFrameRange(request.frames);
     plan.range_frames = int(frames.size());
     plan.shard_mode = request.shard_mode;
@@ -286,28 +260,33 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     const FrameCameras cameras(request.camera, request.cameras);
     report.camera_source = cameras.describe();
     DecalScene scene;
-    std::unique_ptr<ComputeDevice> device;
-    std::vector<std::unique_ptr<Compositor>> compositors;
-    std::vector<DecalScene> work_scenes;  // per worker: this frame's decals (textures stay on the device)
-    const int workers = std::max(1, request.composite_workers);
+    std::vector<DeviceWorkers> devices;
+    const int workers_per_device = std::max(1, request.composite_workers);
     if (!request.io_only) {
         scene = loadScene(request.scene);
-        if (!plan.frames.empty()) {
-            device = std::make_unique<ComputeDevice>(request.device);
-            report.device = device->info().name;
-            for (int w = 0; w < workers; ++w) {
-                compositors.push_back(std::make_unique<Compositor>(*device));
-                compositors.back()->setScene(scene);
-                work_scenes.push_back(DecalScene{{}, {}, scene.masks});
+        if (!plan.frames.empty())
+            for (DeviceInfo& info : selectDevices(request.device)) {
+                DeviceWorkers& d = devices.emplace_back();
+                d.device = std::make_unique<ComputeDevice>(std::move(info));
+                report.devices.push_back(d.device->info().name);
+                for (int w = 0; w < workers_per_device; ++w) {
+                    d.compositors.push_back(std::make_unique<Compositor>(*d.device));
+                    d.compositors.back()->setScene(scene);
+                }
             }
-        }
     }
+    const int workers = request.io_only ? 1 : int(devices.size()) * workers_per_device;
     // After the scene: decoding its EXR textures through OpenImageIO may change the global count.
     Imf::setGlobalThreadCount(request.exr_threads > 0 ? request.exr_threads
                                                       : int(std::max(1u, std::thread::hardware_concurrency())));
-    createOutputFolders(plan);
-    removeStaleTemporaries(plan);
-    FrameCompositing compositing(request, scene, cameras);
+    createOutputFolders(request, plan);
+    removeStaleTemporaries(request, plan);
+    SequenceConventions sequence;  // depth and normal readings settled once for the sequence
+    WarningSet warnings;
+    FrameOptions options;
+    options.mapping = request.mapping;
+    options.compositing.binned = request.binned;
+    options.label = request.input;  // warnings name the sequence, so each is reported once
 
     // ---- the pipeline ----
     const std::size_t depth = std::size_t(std::max(1, request.queue_depth));
@@ -346,17 +325,21 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
             if (cancelled) break;
             Job job;
             job.frame = frame;
-            job.input = plan.input.path(frame);
-            job.output = plan.output.path(frame);
-            std::error_code ec;
-            if (request.resume && fs::is_regular_file(job.output, ec)) {
+            job.output = plan.outputAt(frame);
+            if (request.resume && frameDone(request, plan, frame)) {
                 results.push(FrameResult{frame, FrameStatus::Skipped, job.output, "", std::nullopt});
                 continue;
             }
             try {
-                checkNotOverwritingInput(job.input, job.output, request.overwrite_input);
+                FrameSources sources = frameSources(request, plan, frame);
+                sources.camera = cameras.explicitCamera(frame);
+                FrameTargets targets{job.output, request.preview.empty() ? "" : pathAt(request.preview, frame),
+                                     request.overwrite_input};
+                FrameOptions frame_options = options;
+                frame_options.frame_number = double(frame);
+                job.work = std::make_unique<Frame>(std::move(sources), std::move(targets), std::move(frame_options));
                 StageTimer t{reader_timings.read_s};
-                job.files.push_back(readExr(job.input));
+                job.work->read();
             } catch (...) {
                 results.push(failure(frame, job.output, std::current_exception()));
                 continue;
@@ -369,11 +352,24 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     });
     for (int w = 0; w < workers; ++w)
         threads.emplace_back([&, w] {  // compositing worker
+            BatchTimings& timings = thread_timings[std::size_t(w) + 2];
+            Compositor* compositor =
+                request.io_only ? nullptr
+                                : devices[std::size_t(w / workers_per_device)]
+                                      .compositors[std::size_t(w % workers_per_device)]
+                                      .get();
             while (auto job = to_composite.pop()) {
                 try {
-                    if (!request.io_only)
-                        compositing.composite(*job, *compositors[std::size_t(w)], work_scenes[std::size_t(w)],
-                                              thread_timings[std::size_t(w) + 2]);
+                    {
+                        StageTimer t{timings.prepare_s};
+                        job->work->prepare(request.io_only ? DecalScene{} : scene, &sequence);
+                    }
+                    warnings.add(job->work->report().warnings);
+                    if (compositor) {
+                        StageTimer t{timings.composite_s};
+                        job->work->composite(*compositor);
+                        timings.kernels_ms += job->work->report().stats.totalKernelMs();
+                    }
                 } catch (...) {
                     results.push(failure(job->frame, job->output, std::current_exception()));
                     continue;
@@ -393,8 +389,10 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
             if (!job) break;
             try {
                 StageTimer t{writer_timings.write_s};
-                writeExrAtomic(job->files.front(), job->output);
-                results.push(FrameResult{job->frame, FrameStatus::Written, job->output, "", std::nullopt});
+                const std::vector<std::string>& written = job->work->writeBack();
+                const std::string output = written.size() == 1 ? written.front() : job->output;
+                job->work.reset();  // the frame's planes go before the next one is taken
+                results.push(FrameResult{job->frame, FrameStatus::Written, output, "", std::nullopt});
             } catch (...) {
                 results.push(failure(job->frame, job->output, std::current_exception()));
             }
@@ -421,12 +419,12 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     }
     for (std::thread& t : threads) t.join();
     report.progress.elapsed_s = secondsSince(start);
-    report.warnings = compositing.warnings();
+    report.warnings = warnings.list();
     for (const BatchTimings& t : thread_timings) {
         BatchTimings& sum = report.timings;
-        sum.read_s += t.read_s, sum.map_extract_s += t.map_extract_s, sum.set_scene_s += t.set_scene_s;
-        sum.composite_s += t.composite_s, sum.kernels_ms += t.kernels_ms, sum.store_s += t.store_s;
-        sum.write_s += t.write_s, sum.read_wait_s += t.read_wait_s, sum.write_idle_s += t.write_idle_s;
+        sum.read_s += t.read_s, sum.prepare_s += t.prepare_s, sum.composite_s += t.composite_s;
+        sum.kernels_ms += t.kernels_ms, sum.write_s += t.write_s;
+        sum.read_wait_s += t.read_wait_s, sum.write_idle_s += t.write_idle_s;
     }
     watch.finished(report);
     if (stopped_by) {

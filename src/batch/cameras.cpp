@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "decalcomp/batch.hpp"
+#include "decalcomp/frame_cameras.hpp"
 #include "decalcomp/error.hpp"
 
 namespace decalcomp {

@@ -1,10 +1,11 @@
 // Progress of a batch: a bar redrawn in place on terminals, one line per frame in logs.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cmath>
 #include <ostream>
 
-#include "decalcomp/batch.hpp"
+#include "decalcomp/batch_progress.hpp"
 
 namespace decalcomp {
 
@@ -52,7 +53,8 @@ void ProgressPrinter::started(const BatchReport& report) {
         shard = fmt::format(", shard {}/{} ({}) of {} frames, from {}", plan.shard.index, plan.shard.count,
                             shardModeName(plan.shard_mode), plan.range_frames, plan.shard_source);
     out_ << fmt::format("batch: {} frames{} on {}; cameras: {}\n", plan.frames.size(), shard,
-                        report.device.empty() ? std::string("no device (I/O only)") : report.device,
+                        report.devices.empty() ? std::string("no device (I/O only)")
+                                               : fmt::format("{}", fmt::join(report.devices, ", ")),
                         report.camera_source)
          << std::flush;
 }

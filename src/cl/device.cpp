@@ -31,6 +31,19 @@ std::string describe(const std::vector<DeviceInfo>& devices) {
     return list.empty() ? "none" : list;
 }
 
+DeviceInfo describeDevice(const cl::Device& device, const cl::Platform& platform, int index) {
+    DeviceInfo info;
+    info.index = index;
+    info.name = device.getInfo<CL_DEVICE_NAME>();
+    info.vendor = device.getInfo<CL_DEVICE_VENDOR>();
+    info.version = device.getInfo<CL_DEVICE_VERSION>();
+    info.type = typeName(device.getInfo<CL_DEVICE_TYPE>());
+    info.platform = platform.getInfo<CL_PLATFORM_NAME>();
+    info.device = device;
+    info.platform_handle = platform;
+    return info;
+}
+
 }  // namespace
 
 std::vector<DeviceInfo> listDevices() {
@@ -48,18 +61,7 @@ std::vector<DeviceInfo> listDevices() {
         } catch (const cl::Error&) {
             continue;
         }
-        for (auto& device : platform_devices) {
-            DeviceInfo info;
-            info.index = int(devices.size());
-            info.name = device.getInfo<CL_DEVICE_NAME>();
-            info.vendor = device.getInfo<CL_DEVICE_VENDOR>();
-            info.version = device.getInfo<CL_DEVICE_VERSION>();
-            info.type = typeName(device.getInfo<CL_DEVICE_TYPE>());
-            info.platform = platform.getInfo<CL_PLATFORM_NAME>();
-            info.device = device;
-            info.platform_handle = platform;
-            devices.push_back(std::move(info));
-        }
+        for (auto& device : platform_devices) devices.push_back(describeDevice(device, platform, int(devices.size())));
     }
     return devices;
 }
@@ -95,7 +97,48 @@ DeviceInfo selectDevice(const std::string& selector) {
     throw deviceError(fmt::format("--device {}: no device matches (devices: {})", selector, describe(devices)));
 }
 
-ComputeDevice::ComputeDevice(const std::string& selector) : info_(selectDevice(selector)) {
+std::vector<DeviceInfo> selectDevices(const std::string& spec) {
+    std::vector<DeviceInfo> chosen;
+    if (lower(spec) == "all") {
+        const auto devices = listDevices();
+        for (const auto& d : devices)
+            if (d.type == "gpu") chosen.push_back(d);
+        if (chosen.empty()) chosen = devices;
+        if (chosen.empty()) return {selectDevice("")};  // throws: no device
+        return chosen;
+    }
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t comma = spec.find(',', start);
+        const std::string one = spec.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (one.empty() && spec.find(',') != std::string::npos)
+            throw Error(ErrorKind::Usage, fmt::format("--device {}: empty device in the list", spec));
+        chosen.push_back(selectDevice(one));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return chosen;
+}
+
+ComputeDevice::ComputeDevice(const std::string& selector) : ComputeDevice(selectDevice(selector)) {}
+
+ComputeDevice::ComputeDevice(const cl::Context& context, const cl::Device& device, const cl::CommandQueue& queue)
+    : context_(context), queue_(queue) {
+    try {
+        const cl::Platform platform(device.getInfo<CL_DEVICE_PLATFORM>());
+        info_ = describeDevice(device, platform, -1);
+        for (const DeviceInfo& listed : listDevices())
+            if (listed.device() == device()) info_.index = listed.index;
+        const cl_command_queue_properties properties = queue.getInfo<CL_QUEUE_PROPERTIES>();
+        profiling_ = (properties & CL_QUEUE_PROFILING_ENABLE) != 0;
+        if (properties & CL_QUEUE_OUT_OF_ORDER_EXEC_MODE_ENABLE)
+            throw Error(ErrorKind::Usage, fmt::format("{}: the compositor needs an in-order queue", info_.name));
+    } catch (const cl::Error& e) {
+        throw deviceError(fmt::format("embedding an OpenCL context: {} failed: {}", e.what(), clErrorName(e.err())));
+    }
+}
+
+ComputeDevice::ComputeDevice(DeviceInfo info) : info_(std::move(info)) {
     try {
         context_ = cl::Context(info_.device);
         queue_ = cl::CommandQueue(context_, info_.device, CL_QUEUE_PROFILING_ENABLE);

@@ -22,6 +22,7 @@
 #include "decalcomp/exr_io.hpp"
 #include "decalcomp/masks.hpp"
 #include "decalcomp/pipeline.hpp"
+#include "decalcomp/sequence_conventions.hpp"
 #include "decalcomp/scene.hpp"
 #include "decalcomp/synth.hpp"
 

@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "decalcomp/batch.hpp"
+#include "decalcomp/batch_progress.hpp"
 #include "decalcomp/error.hpp"
 
 namespace decalcomp::cli {
@@ -15,7 +16,7 @@ namespace {
 
 struct BatchFlags {
     BatchRequest request;
-    std::vector<std::string> channels;
+    std::vector<std::string> inputs, passes, channels;
     std::string depth;
     std::string shard, shard_mode = "interleaved", progress = "auto";
     bool quiet = false, list_frames = false, no_slurm = false, timing = false;
@@ -31,6 +32,9 @@ ProgressStyle progressStyle(const BatchFlags& f) {
 void run(BatchFlags& f) {
     BatchRequest& r = f.request;
     finishMappingOptions(r.mapping, f.channels, f.depth);
+    r.input = f.inputs.front();
+    r.extra_inputs.assign(f.inputs.begin() + 1, f.inputs.end());
+    r.pass_files = parsePassFlags(f.passes);
     if (!f.shard.empty()) r.shard = parseShard(f.shard);
     r.shard_from_environment = !f.no_slurm;
     r.shard_mode = f.shard_mode == "contiguous" ? ShardMode::Contiguous : ShardMode::Interleaved;
@@ -46,11 +50,10 @@ void run(BatchFlags& f) {
         const BatchTimings& t = report.timings;
         const double n = std::max(1, report.progress.written + report.progress.failed);
         std::cerr << fmt::format(
-            "timing, ms per frame (thread time): read {:.1f}, map+extract {:.1f}, setScene {:.1f}, composite {:.1f} "
-            "(kernels {:.2f}), store {:.1f}, write {:.1f}; reader blocked {:.1f}, writer idle {:.1f}\n",
-            1e3 * t.read_s / n, 1e3 * t.map_extract_s / n, 1e3 * t.set_scene_s / n, 1e3 * t.composite_s / n,
-            t.kernels_ms / n, 1e3 * t.store_s / n, 1e3 * t.write_s / n, 1e3 * t.read_wait_s / n,
-            1e3 * t.write_idle_s / n);
+            "timing, ms per frame (thread time): read {:.1f}, prepare {:.1f}, composite {:.1f} (kernels {:.2f}), "
+            "write {:.1f}; reader blocked {:.1f}, writer idle {:.1f}\n",
+            1e3 * t.read_s / n, 1e3 * t.prepare_s / n, 1e3 * t.composite_s / n, t.kernels_ms / n, 1e3 * t.write_s / n,
+            1e3 * t.read_wait_s / n, 1e3 * t.write_idle_s / n);
     }
     if (report.failures.empty()) return;
     // --keep-going: every failed frame, then a non-zero exit with the first failure's code.
@@ -72,15 +75,23 @@ Command addBatchCommand(CLI::App& app) {
     auto flags = std::make_shared<BatchFlags>();
     CLI::App* cmd = app.add_subcommand("batch", "Composite a decal scene into every frame of a sequence");
     BatchRequest& r = flags->request;
-    cmd->add_option("input", r.input, "Input frame pattern: frame.####.exr or frame.%04d.exr")->required();
-    cmd->add_option("-o,--output", r.output, "Output frame pattern (folders are created)")->required();
+    cmd->add_option("inputs", flags->inputs,
+                    "Input frame pattern(s): frame.####.exr or frame.%04d.exr; frames are found from the first, "
+                    "further files' channels are pooled with it")
+        ->required();
+    cmd->add_option("-o,--output", r.output,
+                    "Output frame pattern, or a folder where each changed file keeps its name (folders are created)")
+        ->required();
+    cmd->add_option("--preview", r.preview, "Also write a PNG per frame (a pattern: preview.####.png)");
     cmd->add_option("--decals", r.scene, "Decal scene JSON; decals may have lifetimes and keyframes");
     cmd->add_option("--frames", r.frames, "Frames: 1-240, 1-240x2, 1,5,10-20 (default: every input that exists)");
     cmd->add_option("--camera", r.camera,
                     "Camera sidecar for every frame, or a sidecar pattern (cam.####.json); default: each frame's "
                     "header, else solved from its position pass");
     cmd->add_option("--cameras", r.cameras, "One JSON file with a camera per frame (docs/cli.md)");
-    cmd->add_option("--device", r.device, "OpenCL device: index, gpu, cpu or part of its name");
+    cmd->add_option("--device", r.device,
+                    "OpenCL device(s): index, gpu, cpu or part of its name; several separated by ',', or all "
+                    "(every GPU); frames are spread over them");
     cmd->add_flag("--resume", r.resume, "Skip frames whose output exists (outputs are written atomically)");
     cmd->add_flag("--keep-going", r.keep_going, "Go on past failed frames; list them and exit non-zero at the end");
     cmd->add_option("--shard", flags->shard,
@@ -96,7 +107,7 @@ Command addBatchCommand(CLI::App& app) {
         ->check(CLI::Range(1, 64))
         ->default_str("2");
     cmd->add_option("--workers", r.composite_workers,
-                    "Compositing threads sharing the device (their host-side work overlaps)")
+                    "Compositing threads per device (their host-side work overlaps)")
         ->check(CLI::Range(1, 64))
         ->default_str("2");
     cmd->add_flag("--io-only", r.io_only, "Read and write every frame without compositing (measures the I/O)");
@@ -109,6 +120,7 @@ Command addBatchCommand(CLI::App& app) {
     cmd->add_flag("-q,--quiet", flags->quiet, "No progress; only errors");
     cmd->add_flag("--timing", flags->timing, "Print where the time went, per stage (ms per frame)");
     addMappingOptions(*cmd, r.mapping, flags->channels, flags->depth);
+    addPassOptions(*cmd, flags->passes);
     return [flags] { run(*flags); };
 }
 

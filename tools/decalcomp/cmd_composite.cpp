@@ -3,15 +3,18 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "decalcomp/pipeline.hpp"
+#include "decalcomp/frame.hpp"
+#include "decalcomp/scene.hpp"
 
 namespace decalcomp::cli {
 
 namespace {
 
 struct CompositeFlags {
-    CompositeRequest request;
-    std::vector<std::string> inputs;
+    FrameSources sources;
+    FrameTargets targets;
+    FrameOptions options;
+    std::string scene, device;
     std::vector<std::string> passes;
     std::vector<std::string> channels;
     std::string depth;
@@ -23,39 +26,45 @@ struct CompositeFlags {
 Command addCompositeCommand(CLI::App& app) {
     auto flags = std::make_shared<CompositeFlags>();
     CLI::App* cmd = app.add_subcommand("composite", "Composite a decal scene into a G-buffer EXR");
-    CompositeRequest& r = flags->request;
-    cmd->add_option("inputs", flags->inputs,
+    cmd->add_option("inputs", flags->sources.inputs,
                     "G-buffer EXR(s): single- or multi-part, or several files whose channels are pooled")
         ->required();
-    cmd->add_option("--decals", r.scene, "Decal scene JSON (docs/scene-format.md)")->required();
-    cmd->add_option("--camera", r.camera_json,
+    cmd->add_option("--decals", flags->scene, "Decal scene JSON (docs/scene-format.md)")->required();
+    cmd->add_option("--camera", flags->sources.camera_json,
                     "Camera JSON sidecar (default: an input header's worldToCamera/worldToNDC, else solved from "
                     "the position pass)");
-    cmd->add_option("-o,--output", r.output,
+    cmd->add_option("-o,--output", flags->targets.output,
                     "Output EXR (same layout as the input holding the albedo), or a folder when the composited "
                     "channels live in several files")
         ->required();
-    cmd->add_option("--preview", r.preview, "Also write a PNG: input albedo | composited albedo");
-    cmd->add_option("--device", r.device, "OpenCL device: index, gpu, cpu or part of its name (default: GPU, else CPU)");
-    cmd->add_flag("--overwrite-input", r.overwrite_input, "Allow the output to replace the input file");
-    cmd->add_flag("--unbinned", [&r](std::int64_t) { r.binned = false; }, "Test every decal at every pixel (debugging)");
+    cmd->add_option("--preview", flags->targets.preview, "Also write a PNG: input albedo | composited albedo");
+    cmd->add_option("--device", flags->device, "OpenCL device: index, gpu, cpu or part of its name (default: GPU, else CPU)");
+    cmd->add_flag("--overwrite-input", flags->targets.overwrite_input, "Allow the output to replace the input file");
+    CompositeOptions& compositing = flags->options.compositing;
+    cmd->add_flag("--unbinned", [&compositing](std::int64_t) { compositing.binned = false; }, "Test every decal at every pixel (debugging)");
     cmd->add_flag("-q,--quiet", flags->quiet, "Print nothing on success");
-    addMappingOptions(*cmd, r.mapping, flags->channels, flags->depth);
+    addMappingOptions(*cmd, flags->options.mapping, flags->channels, flags->depth);
     addPassOptions(*cmd, flags->passes);
     return [flags] {
-        finishMappingOptions(flags->request.mapping, flags->channels, flags->depth);
-        CompositeRequest& request = flags->request;
-        request.input = flags->inputs.front();
-        request.extra_inputs.assign(flags->inputs.begin() + 1, flags->inputs.end());
-        request.pass_files = parsePassFlags(flags->passes);
-        const CompositeReport report = compositeFile(request);
+        finishMappingOptions(flags->options.mapping, flags->channels, flags->depth);
+        flags->sources.pass_files = parsePassFlags(flags->passes);
+        // Inputs, scene, outputs and camera are checked before the device is opened.
+        Frame frame(flags->sources, flags->targets, flags->options);
+        const DecalScene scene = loadScene(flags->scene);
+        frame.prepare(scene);
+        ComputeDevice device(flags->device);
+        Compositor compositor(device);
+        compositor.setScene(scene);
+        frame.composite(compositor);
+        frame.writeBack();
+        const FrameReport& report = frame.report();
         // Warnings are not success chatter: they go to stderr even with --quiet.
         for (const std::string& warning : report.warnings) std::cerr << "decalcomp: warning: " << warning << "\n";
         if (flags->quiet) return;
         std::string written;
         for (const std::string& path : report.outputs) written += (written.empty() ? "" : ", ") + path;
         std::cout << fmt::format("{}: {} decals on {} ({} profile, camera from {}), kernels {:.2f} ms\n", written,
-                                 report.stats.decals, report.device, report.mapping.profile, report.camera_source,
+                                 report.stats.decals, device.info().name, report.mapping.profile, report.camera_source,
                                  report.stats.totalKernelMs());
         if (report.camera_solve)
             std::cout << "camera solve: " << report.camera_solve->summary() << fmt::format(

@@ -6,6 +6,7 @@
 #include "commands.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/pipeline.hpp"
+#include "decalcomp/sequence_conventions.hpp"
 
 namespace decalcomp::cli {
 

@@ -1,0 +1,105 @@
+#pragma once
+// One frame end to end: its input files and their roles, the channel mapping, the G-buffer
+// planes, the camera, the settled depth and normal conventions, the masks and the outputs, in
+// three steps: prepare, composite, write back. `decalcomp composite`, `decalcomp batch` and
+// programs that embed the library all drive this one type.
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "decalcomp/camera.hpp"
+#include "decalcomp/camera_solve.hpp"
+#include "decalcomp/compositor.hpp"
+#include "decalcomp/decal.hpp"
+#include "decalcomp/exr_io.hpp"
+#include "decalcomp/normal_check.hpp"
+#include "decalcomp/sequence_conventions.hpp"
+
+namespace decalcomp {
+
+// Where a frame's passes and camera come from.
+struct FrameSources {
+    std::vector<std::string> inputs;              // positional EXRs, pooled and mapped through the profile
+    std::map<Attribute, std::string> pass_files;  // --pass ATTR=FILE: the attribute comes from FILE only
+    std::optional<Camera> camera;                 // explicit camera; else camera_json
+    std::string camera_json;                      // sidecar; else the first header's, else solved
+};
+
+// Where a frame's results go.
+struct FrameTargets {
+    std::string output;   // EXR to write, or a folder where each changed file keeps its name
+    std::string preview;  // optional PNG: albedo (and lit normals) before | after
+    bool overwrite_input = false;
+};
+
+struct FrameOptions {
+    MappingOptions mapping;
+    CompositeOptions compositing;
+    std::optional<double> frame_number;  // picks animated decals' state; nullopt: the scene as written
+    std::string label;  // names the frame in warnings (a batch gives its pattern); default: the first input
+};
+
+// What one frame did, for the CLI and callers.
+struct FrameReport {
+    std::string camera_source;
+    std::optional<CameraSolveReport> camera_solve;  // when the camera was solved
+    DepthCheck depth_check;                         // planar/radial verdict against the position pass
+    NormalCheck normal_check;                       // normal space/encoding against the depth pass
+    ChannelMapping mapping;
+    CompositeStats stats;
+    std::vector<std::string> outputs;   // the EXR files written
+    std::vector<std::string> warnings;  // e.g. a mask name that matches nothing; the CLI prints them
+};
+
+class Frame {
+public:
+    Frame(FrameSources sources, FrameTargets targets, FrameOptions options);
+
+    // Reads the input files (each once, however often it is named). Idempotent; prepare() calls it.
+    // A batch calls it on its reader thread so decoding overlaps the other frames' compositing.
+    void read();
+
+    // Maps channels, adds requested channels, decides where each changed file goes (and refuses
+    // to overwrite an input), extracts the planes, resolves the camera, settles the depth and normal
+    // conventions (once per sequence when `sequence` is given) and evaluates the decal masks.
+    // `scene` is the whole scene; animated decals are taken at FrameOptions::frame_number.
+    // Throws Error naming the file and field; nothing is written.
+    void prepare(const DecalScene& scene, SequenceConventions* sequence = nullptr);
+
+    // Blends this frame's decals into its planes with `compositor` (which holds the scene's
+    // textures: Compositor::setScene with the same scene), then stores the changed attributes into
+    // the EXR channels they came from.
+    void composite(Compositor& compositor);
+
+    // Writes every output (and the preview) to a temporary beside it and renames them into place
+    // only when all are complete, so a failure leaves none behind. Returns the EXRs written.
+    const std::vector<std::string>& writeBack();
+
+    // The outputs prepare() decided: input file index -> path.
+    const std::map<int, std::string>& outputs() const { return outputs_; }
+    const FrameReport& report() const { return report_; }
+    const GBuffer& gbuffer() const { return gbuffer_; }
+    const Camera& camera() const { return camera_; }
+    const std::vector<ExrImage>& files() const { return files_; }
+    // False when no decal is alive on this frame: composite() leaves the planes as they are.
+    bool hasDecals() const { return !decals_.empty(); }
+
+private:
+    FrameSources sources_;
+    FrameTargets targets_;
+    FrameOptions options_;
+    std::vector<ExrImage> files_;
+    FileRoles roles_;
+    bool read_ = false, prepared_ = false;
+    std::vector<Decal> decals_;          // this frame's decals
+    bool animated_ = false;              // decals_ differ from the scene's: the compositor gets them
+    std::vector<Attribute> attributes_;  // what compositing may change
+    std::map<int, std::string> outputs_;
+    GBuffer gbuffer_;
+    std::optional<GBuffer> before_;  // for the preview
+    Camera camera_;
+    FrameReport report_;
+};
+
+}  // namespace decalcomp

@@ -1,0 +1,97 @@
+#include "decalcomp/frame.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "decalcomp/error.hpp"
+#include "decalcomp/masks.hpp"
+#include "decalcomp/pipeline.hpp"
+
+namespace decalcomp {
+
+namespace fs = std::filesystem;
+
+Frame::Frame(FrameSources sources, FrameTargets targets, FrameOptions options)
+    : sources_(std::move(sources)), targets_(std::move(targets)), options_(std::move(options)) {
+    if (sources_.inputs.empty()) throw Error(ErrorKind::Usage, "a frame needs at least one input EXR");
+}
+
+void Frame::read() {
+    if (read_) return;
+    FrameFiles frame = readFrameFiles(sources_.inputs.front(), {sources_.inputs.begin() + 1, sources_.inputs.end()},
+                                      sources_.pass_files);
+    files_ = std::move(frame.files);
+    roles_ = frame.roles;
+    read_ = true;
+}
+
+void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
+    read();
+    const std::string& input = sources_.inputs.front();
+    ChannelMapping& mapping = report_.mapping;
+    mapping = mapChannels(files_, options_.mapping, roles_);
+    if (!mapping.attributes.count(Attribute::Albedo))
+        throw inputError(fmt::format("{}: no albedo channels found (profile {}); map them with --channel albedo=R,G,B",
+                                     input, mapping.profile));
+    addAttributeChannels(files_, mapping, options_.mapping);
+
+    // What changes, and where each changed file goes, decided (and checked) before any work.
+    animated_ = options_.frame_number && isAnimated(scene);
+    decals_ = animated_ ? decalsAtFrame(scene.decals, *options_.frame_number) : scene.decals;
+    attributes_ = compositedAttributes(scene);
+    report_.warnings =
+        missingAttributeWarnings(attributes_, mapping, options_.label.empty() ? input : options_.label);
+    outputs_ = outputPaths(files_, mapping, attributes_, targets_.output);
+    for (const auto& [file, path] : outputs_) {
+        for (const ExrImage& image : files_) checkNotOverwritingInput(image.path, path, targets_.overwrite_input);
+        if (!targets_.preview.empty() && fs::path(targets_.preview) == fs::path(path))
+            throw Error(ErrorKind::Usage, fmt::format("{}: the preview would replace the output", targets_.preview));
+    }
+    for (const ExrImage& image : files_)
+        if (!targets_.preview.empty()) checkNotOverwritingInput(image.path, targets_.preview, false);
+
+    if (decals_.empty() && targets_.preview.empty()) {  // nothing alive on this frame: written as read
+        prepared_ = true;
+        return;
+    }
+    gbuffer_ = extractGBuffer(files_, mapping);
+    CameraSolveReport solve;
+    camera_ = sources_.camera ? *sources_.camera : resolveCamera(files_, gbuffer_, sources_.camera_json, &solve);
+    if (solve.points > 0) report_.camera_solve = solve;
+    report_.camera_source = camera_.source;
+    if (sequence) {
+        sequence->settle(gbuffer_, mapping, camera_, &report_.depth_check, &report_.normal_check);
+    } else {
+        report_.depth_check = settleDepthConvention(gbuffer_, mapping, camera_);
+        report_.normal_check = settleNormalEncoding(gbuffer_, mapping, camera_);
+    }
+    evaluateMasks(files_, mapping, scene, gbuffer_, &report_.warnings);  // decal masks for this frame
+    prepared_ = true;
+}
+
+void Frame::composite(Compositor& compositor) {
+    if (!prepared_) throw Error(ErrorKind::Usage, "Frame::composite before Frame::prepare");
+    if (decals_.empty()) return;  // nothing alive on this frame: the output is the input
+    if (!targets_.preview.empty()) before_ = gbuffer_;
+    if (animated_) compositor.setDecals(decals_);  // textures stay on the device
+    report_.stats = compositor.composite(gbuffer_, camera_, options_.compositing);
+    for (Attribute attribute : attributes_)
+        if (gbuffer_.has(attribute))
+            storeAttribute(files_, report_.mapping, attribute, gbuffer_.planes.at(attribute));
+}
+
+const std::vector<std::string>& Frame::writeBack() {
+    if (!prepared_) throw Error(ErrorKind::Usage, "Frame::writeBack before Frame::prepare");
+    std::vector<PendingOutput> pending;
+    const bool folder = isOutputFolder(targets_.output);
+    for (const auto& [file, path] : outputs_) pending.push_back({&files_[std::size_t(file)], path, folder});
+    const GBuffer& before = before_ ? *before_ : gbuffer_;
+    writeOutputsTogether(pending, targets_.preview.empty() ? nullptr : &targets_.preview,
+                         [&](const std::string& preview_path) { writePreview(before, gbuffer_, camera_, preview_path); });
+    report_.outputs.clear();
+    for (const auto& [file, path] : outputs_) report_.outputs.push_back(path);
+    return report_.outputs;
+}
+
+}  // namespace decalcomp
