@@ -152,16 +152,18 @@ __kernel void dc_coarse_count(__constant const DcFrame* frame, __global const ul
     counts[c] = n;
 }
 
+/* `capacity` entries fit in `lists`; the host compares the total (offsets[count]) with it after
+ * the frame and, when it did not fit, grows the list and runs the frame again. */
 __kernel void dc_coarse_fill(__constant const DcFrame* frame, __global const ulong* masks,
                              __global const int* chunk_starts, __global const int* offsets,
-                             __global int* lists) {
+                             __global int* lists, int capacity) {
     const int chunks = dc_decal_chunks(frame);
     const int item = get_global_id(0);
     if (item >= dc_coarse_tiles_x(frame) * dc_coarse_tiles_y(frame) * chunks) return;
     const int c = item / chunks, k = item % chunks;
     ulong bits = masks[item];
     int next = offsets[c] + chunk_starts[item];
-    while (bits != 0) {
+    while (bits != 0 && next < capacity) {
         const int bit = (int)(63 - clz(bits & (~bits + 1))); /* lowest set bit */
         lists[next++] = k * 64 + bit;
         bits &= bits - 1;
@@ -171,16 +173,19 @@ __kernel void dc_coarse_fill(__constant const DcFrame* frame, __global const ulo
 /* Level 2: one work-item per tile over its coarse tile's list. With `write` 0 it only counts. */
 inline int dc_tile_bin(__constant const DcFrame* frame, __global const DcDecalBounds* bounds,
                        __global const float2* tile_depth, __global const int* coarse_offsets,
-                       __global const int* coarse_lists, int tile, int write, __global int* out) {
+                       __global const int* coarse_lists, int coarse_capacity, int tile, int room,
+                       __global int* out) {
     const float2 range = tile_depth[tile];
     if (!(range.x <= range.y)) return 0;
     const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x;
     const int c = (ty / DC_COARSE) * dc_coarse_tiles_x(frame) + tx / DC_COARSE;
     int n = 0;
-    for (int k = coarse_offsets[c]; k < coarse_offsets[c + 1]; ++k) {
+    /* an overflowed coarse list is read only up to its capacity: the frame runs again anyway */
+    const int end = min(coarse_offsets[c + 1], coarse_capacity);
+    for (int k = coarse_offsets[c]; k < end; ++k) {
         const int d = coarse_lists[k];
         if (dc_overlaps(bounds[d], tx, ty, tx, ty, range)) {
-            if (write) out[n] = d;
+            if (n < room) out[n] = d;
             ++n;
         }
     }
@@ -189,17 +194,19 @@ inline int dc_tile_bin(__constant const DcFrame* frame, __global const DcDecalBo
 
 __kernel void dc_bin_count(__constant const DcFrame* frame, __global const DcDecalBounds* bounds,
                            __global const float2* tile_depth, __global const int* coarse_offsets,
-                           __global const int* coarse_lists, __global int* counts) {
+                           __global const int* coarse_lists, int coarse_capacity, __global int* counts) {
     const int tile = get_global_id(0);
     if (tile >= frame->tiles_x * frame->tiles_y) return;
-    counts[tile] = dc_tile_bin(frame, bounds, tile_depth, coarse_offsets, coarse_lists, tile, 0, 0);
+    counts[tile] = dc_tile_bin(frame, bounds, tile_depth, coarse_offsets, coarse_lists, coarse_capacity, tile, 0, 0);
 }
 
 __kernel void dc_bin_fill(__constant const DcFrame* frame, __global const DcDecalBounds* bounds,
                           __global const float2* tile_depth, __global const int* coarse_offsets,
-                          __global const int* coarse_lists, __global const int* offsets,
-                          __global int* tile_decals) {
+                          __global const int* coarse_lists, int coarse_capacity, __global const int* offsets,
+                          __global int* tile_decals, int capacity) {
     const int tile = get_global_id(0);
     if (tile >= frame->tiles_x * frame->tiles_y) return;
-    dc_tile_bin(frame, bounds, tile_depth, coarse_offsets, coarse_lists, tile, 1, tile_decals + offsets[tile]);
+    const int start = offsets[tile];
+    dc_tile_bin(frame, bounds, tile_depth, coarse_offsets, coarse_lists, coarse_capacity, tile,
+                max(0, capacity - start), tile_decals + start);
 }

@@ -8,13 +8,13 @@
 #include "decal_kinds.h"
 #include "occlusion.h"
 
-__kernel void dc_occlusion_build(__constant const DcFrame* frame, __read_only image2d_t depth_image,
-                                 __read_only image2d_t position_image, __global const DcDecal* decals,
+__kernel void dc_occlusion_build(__constant const DcFrame* frame, __global const float* depth_plane,
+                                 __global const float4* position_plane, __global const DcDecal* decals,
                                  __global const int* occluders, int occluder_count, __global uint* maps) {
     const int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame->width || y >= frame->height) return;
     float3 p;
-    if (!dc_reconstruct(frame, depth_image, position_image, x, y, &p)) return;
+    if (!dc_reconstruct(frame, depth_plane, position_plane, x, y, &p)) return;
     for (int k = 0; k < occluder_count; ++k) {
         __global const DcDecal* d = &decals[occluders[k]];
         const float3 l = dc_affine_global(d->camera_to_local, p);

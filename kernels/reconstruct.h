@@ -3,9 +3,6 @@
 #ifndef DECALCOMP_RECONSTRUCT_H
 #define DECALCOMP_RECONSTRUCT_H
 
-__constant sampler_t dc_pixel_sampler =
-    CLK_NORMALIZED_COORDS_FALSE | CLK_ADDRESS_CLAMP_TO_EDGE | CLK_FILTER_NEAREST;
-
 /* NDC of the centre of data-window pixel (x, y); row 0 is the top row. */
 inline float2 dc_pixel_ndc(__constant const DcFrame* f, int x, int y) {
     return (float2)(2.0f * ((float)(x + f->origin_x) + 0.5f) / (float)f->display_width - 1.0f,
@@ -21,17 +18,17 @@ inline bool dc_is_background_depth(float d) { return !(d > 0.0f) || isinf(d) || 
 
 /* Writes the camera-space point of pixel (x, y) and returns true, or returns false for
  * background (invalid depth, beyond the far plane, or too close to the camera). */
-inline bool dc_reconstruct(__constant const DcFrame* f, __read_only image2d_t depth_image,
-                           __read_only image2d_t position_image, int x, int y, float3* p_out) {
-    const int2 xy = (int2)(x, y);
+inline bool dc_reconstruct(__constant const DcFrame* f, __global const float* depth_plane,
+                           __global const float4* position_plane, int x, int y, float3* p_out) {
+    const size_t i = (size_t)y * f->width + x;
     const float2 ndc = dc_pixel_ndc(f, x, y);
     float3 p;
     float d = 1.0f;
-    if (f->has_depth) d = read_imagef(depth_image, dc_pixel_sampler, xy).x;
+    if (f->has_depth) d = depth_plane[i];
 
     if (f->depth_convention == DC_DEPTH_POSITION) {
         if (f->has_depth && dc_is_background_depth(d)) return false;
-        const float3 w = read_imagef(position_image, dc_pixel_sampler, xy).xyz;
+        const float3 w = position_plane[i].xyz;
         if (any(isnan(w)) || any(isinf(w))) return false;
         p = dc_affine_constant(f->world_to_camera, w);
     } else if (f->depth_convention == DC_DEPTH_NDC) {
@@ -77,8 +74,8 @@ inline int dc_footprint(__constant const DcFrame* f, int x, int y, float3 p, flo
 /* Camera-space normal of pixel (x, y) from its neighbours' points (seed 004): per axis, the
  * neighbour whose depth is closer to this pixel's, so differences never straddle a silhouette.
  * Falls back to facing the camera where no neighbour is valid. */
-inline float3 dc_normal_from_depth(__constant const DcFrame* f, __read_only image2d_t depth_image,
-                                   __read_only image2d_t position_image, int x, int y, float3 p) {
+inline float3 dc_normal_from_depth(__constant const DcFrame* f, __global const float* depth_plane,
+                                   __global const float4* position_plane, int x, int y, float3 p) {
     float3 axis[2];
     int found = 0;
     for (int a = 0; a < 2; ++a) {
@@ -88,7 +85,7 @@ inline float3 dc_normal_from_depth(__constant const DcFrame* f, __read_only imag
             const int nx = a == 0 ? x + side : x, ny = a == 0 ? y : y + side;
             float3 q;
             if (nx < 0 || ny < 0 || nx >= f->width || ny >= f->height ||
-                !dc_reconstruct(f, depth_image, position_image, nx, ny, &q))
+                !dc_reconstruct(f, depth_plane, position_plane, nx, ny, &q))
                 continue;
             const float gap = fabs(q.z - p.z);
             if (gap < best_gap) {

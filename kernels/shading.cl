@@ -24,30 +24,39 @@ inline float3 dc_camera_to_world_vector(__constant const DcFrame* f, float3 v) {
 
 /* One pixel. `variant` (DC_VARIANT_x) is a literal in each kernel below, so the lean kernels carry
  * none of the code they exclude (fewer registers, faster loops: docs/benchmarks.md). */
-inline void dc_shade_pixel(__constant const DcFrame* frame, __read_only image2d_t depth_image,
-                           __read_only image2d_t position_image, __read_only image2d_t surface0_in,
-                           __read_only image2d_t surface1_in, __read_only image2d_t surface2_in,
-                           __global float4* surface0_out, __global float4* surface1_out, __global float4* surface2_out,
+inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float* depth_plane,
+                           __global const float4* position_plane, __global float4* surface0,
+                           __global float4* surface1, __global float4* surface2,
                            __global const DcDecal* decals, __global const DcTexture* textures,
                            __global const float4* texels, __global const int* tile_offsets,
-                           __global const int* tile_decals, int binned, __global const float* mask_weights,
+                           __global const int* tile_decals, int binned, int list_capacity,
+                           __global const float* mask_weights,
                            __global const uint* occlusion_maps, const int variant) {
     const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
     const int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame->width || y >= frame->height) return;
-    const int2 xy = (int2)(x, y);
+    const size_t i = (size_t)y * frame->width + x;
     const int attributes = frame->attributes;
     const bool has_group1 = (attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
     const bool has_group2 = (attributes & ((1 << DC_TARGET_EMISSION) | (1 << DC_TARGET_AO))) != 0;
-    const float4 in0 = read_imagef(surface0_in, dc_pixel_sampler, xy);
-    const float4 in1 = has_group1 ? read_imagef(surface1_in, dc_pixel_sampler, xy) : (float4)(0.0f);
-    const float4 in2 = has_group2 ? read_imagef(surface2_in, dc_pixel_sampler, xy) : (float4)(0.0f);
-    float4 out0 = in0, out1 = in1, out2 = in2;
+    /* The planes are changed in place: pixels no decal reaches (background among them) are
+     * neither read nor written, so they keep their samples bit for bit. */
     float3 p;
-    if (dc_reconstruct(frame, depth_image, position_image, x, y, &p)) {
+    if (!dc_reconstruct(frame, depth_plane, position_plane, x, y, &p)) return;
+    int begin = 0, end = frame->decal_count;
+    if (binned) {
+        const int tile = (y / DC_TILE_SIZE) * frame->tiles_x + x / DC_TILE_SIZE;
+        begin = tile_offsets[tile];
+        end = min(tile_offsets[tile + 1], list_capacity); /* an overflowed list: the frame runs again */
+    }
+    if (begin >= end) return;
+    const float4 in0 = surface0[i];
+    const float4 in1 = has_group1 ? surface1[i] : (float4)(0.0f);
+    const float4 in2 = has_group2 ? surface2[i] : (float4)(0.0f);
+    {
         float3 normal = (float3)(0.0f);
         if (frame->reconstruct_normals)
-            normal = dc_normal_from_depth(frame, depth_image, position_image, x, y, p);
+            normal = dc_normal_from_depth(frame, depth_plane, position_plane, x, y, p);
         else if (frame->has_normal)
             normal = normalize(dc_world_to_camera_vector(frame, in1.xyz));
         const int has_normal = frame->has_normal || frame->reconstruct_normals;
@@ -62,12 +71,7 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __read_only image2d_
         s.emission = in2.xyz;
         s.ao = in2.w;
         s.normal_changed = 0;
-        int begin = 0, end = frame->decal_count;
-        if (binned) {
-            const int tile = (y / DC_TILE_SIZE) * frame->tiles_x + x / DC_TILE_SIZE;
-            begin = tile_offsets[tile];
-            end = tile_offsets[tile + 1];
-        }
+        int applied = 0;
         for (int k = begin; k < end; ++k) {
             __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
             const DcLookup lk = dc_decal_lookup(d, p, normal, has_normal, p_dx, p_dy, footprint);
@@ -78,27 +82,25 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __read_only image2d_
             if (d->mask >= 0)
                 weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
             s = dc_apply_decal(frame, d, lk, textures, texels, weight, normal, s, variant);
+            applied = 1;
         }
-        out0 = (float4)(s.albedo, s.roughness);
-        out1 = (float4)(s.normal_changed ? dc_camera_to_world_vector(frame, s.normal) : in1.xyz, s.metallic);
-        out2 = (float4)(s.emission, s.ao);
+        if (!applied) return;
+        surface0[i] = (float4)(s.albedo, s.roughness);
+        if (has_group1)
+            surface1[i] = (float4)(s.normal_changed ? dc_camera_to_world_vector(frame, s.normal) : in1.xyz, s.metallic);
+        if (has_group2) surface2[i] = (float4)(s.emission, s.ao);
     }
-    const size_t i = (size_t)y * frame->width + x;
-    surface0_out[i] = out0;
-    if (has_group1) surface1_out[i] = out1;
-    if (has_group2) surface2_out[i] = out2;
 }
 
 #define DC_SHADE_ARGUMENTS                                                                                       \
-    __constant const DcFrame *frame, __read_only image2d_t depth_image, __read_only image2d_t position_image,    \
-        __read_only image2d_t surface0_in, __read_only image2d_t surface1_in, __read_only image2d_t surface2_in, \
-        __global float4 *surface0_out, __global float4 *surface1_out, __global float4 *surface2_out,             \
+    __constant const DcFrame *frame, __global const float *depth_plane, __global const float4 *position_plane,  \
+        __global float4 *surface0, __global float4 *surface1, __global float4 *surface2,                         \
         __global const DcDecal *decals, __global const DcTexture *textures, __global const float4 *texels,       \
-        __global const int *tile_offsets, __global const int *tile_decals, int binned,                           \
+        __global const int *tile_offsets, __global const int *tile_decals, int binned, int list_capacity,       \
         __global const float *mask_weights, __global const uint *occlusion_maps
 #define DC_SHADE_CALL(VARIANT)                                                                              \
-    dc_shade_pixel(frame, depth_image, position_image, surface0_in, surface1_in, surface2_in, surface0_out, \
-                   surface1_out, surface2_out, decals, textures, texels, tile_offsets, tile_decals, binned, \
+    dc_shade_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2, decals, textures, texels,   \
+                   tile_offsets, tile_decals, binned, list_capacity,                                          \
                    mask_weights, occlusion_maps, VARIANT)
 
 /* Every target, kind and blast occlusion; then leaner kernels the host picks when a scene fits. */

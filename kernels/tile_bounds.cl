@@ -6,8 +6,8 @@
 #include "reconstruct.h"
 
 __kernel __attribute__((reqd_work_group_size(DC_TILE_SIZE, DC_TILE_SIZE, 1)))
-void dc_tile_bounds(__constant const DcFrame* frame, __read_only image2d_t depth_image,
-                    __read_only image2d_t position_image, __global float2* tile_depth) {
+void dc_tile_bounds(__constant const DcFrame* frame, __global const float* depth_plane,
+                    __global const float4* position_plane, __global float2* tile_depth) {
     __local float local_min[DC_TILE_SIZE * DC_TILE_SIZE];
     __local float local_max[DC_TILE_SIZE * DC_TILE_SIZE];
     const int x = get_global_id(0), y = get_global_id(1);
@@ -16,7 +16,7 @@ void dc_tile_bounds(__constant const DcFrame* frame, __read_only image2d_t depth
     float lo = MAXFLOAT, hi = -MAXFLOAT;
     float3 p;
     if (x < frame->width && y < frame->height &&
-        dc_reconstruct(frame, depth_image, position_image, x, y, &p)) {
+        dc_reconstruct(frame, depth_plane, position_plane, x, y, &p)) {
         lo = -p.z;
         hi = -p.z;
     }

@@ -4,10 +4,13 @@
 
 #include <algorithm>
 #include <array>
-#include <numeric>
+#include <climits>
+#include <cstring>
 
 #include "compositor/kernel_params.hpp"
+#include "compositor/kernels.hpp"
 #include "compositor/occlusion_maps.hpp"
+#include "compositor/staged_buffer.hpp"
 #include "compositor/surface_planes.hpp"
 #include "decalcomp/error.hpp"
 
@@ -17,6 +20,7 @@ namespace {
 
 constexpr int kBinGroupSize = 64;  // work-items per group in the binning kernels
 constexpr int kCoarse = 4;         // DC_COARSE in kernels/binning.cl: tiles per coarse tile side
+constexpr int kScanGroup = 256;    // DC_SCAN_GROUP in kernels/scan.cl
 
 std::size_t roundUp(std::size_t n, std::size_t multiple) { return (n + multiple - 1) / multiple * multiple; }
 
@@ -26,58 +30,46 @@ double eventMs(const cl::Event& e) {
     return double(end - start) * 1e-6;
 }
 
-// Exclusive prefix sum of `n` device counts, with the total appended. Done on the host: the
-// total sizes the list buffer, so lists have no cap and never drop a decal.
-std::vector<int> prefixSum(cl::CommandQueue& queue, const cl::Buffer& counts, std::size_t n) {
-    std::vector<int> values(n, 0);
-    queue.enqueueReadBuffer(counts, CL_TRUE, 0, n * sizeof(int), values.data());
-    std::vector<int> offsets(n + 1, 0);
-    std::int64_t total = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        offsets[i] = int(total);
-        total += values[i];
-        if (total > INT32_MAX) throw deviceError("binning: more than 2^31 tile-decal pairs");
-    }
-    offsets[n] = int(total);
-    return offsets;
+// A device buffer of at least `bytes`, grown (never shrunk) as frames need.
+void reserve(cl::Context& context, cl::Buffer& buffer, std::size_t& capacity, std::size_t bytes) {
+    bytes = std::max<std::size_t>(bytes, 16);
+    if (bytes <= capacity) return;
+    buffer = cl::Buffer(context, CL_MEM_READ_WRITE, bytes);
+    capacity = bytes;
 }
 
-// A buffer of at least one element: OpenCL refuses zero-sized buffers.
+// A read-only buffer holding `data` (OpenCL refuses zero-sized buffers).
 template <typename T>
-cl::Buffer makeBuffer(cl::Context& context, cl_mem_flags flags, const std::vector<T>& data) {
-    if (data.empty()) return cl::Buffer(context, flags, sizeof(T));
-    return cl::Buffer(context, flags | CL_MEM_COPY_HOST_PTR, data.size() * sizeof(T), const_cast<T*>(data.data()));
+cl::Buffer makeBuffer(cl::Context& context, const std::vector<T>& data) {
+    if (data.empty()) return cl::Buffer(context, CL_MEM_READ_ONLY, sizeof(T));
+    return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, data.size() * sizeof(T),
+                      const_cast<T*>(data.data()));
 }
 
-// Pads a plane to the 1 or 4 channels an OpenCL image can hold.
-std::vector<float> imagePixels(const Plane& plane, std::size_t pixels, int channels) {
-    std::vector<float> out(pixels * channels, 0.0f);
-    const int copy = std::min(channels, plane.components);
-    for (std::size_t i = 0; i < pixels; ++i)
-        for (int c = 0; c < copy; ++c) out[i * channels + c] = plane.at(i, c);
-    return out;
-}
-
-cl::Image2D makeImage(cl::Context& context, int width, int height, int channels, const std::vector<float>& pixels) {
-    const cl::ImageFormat format(channels == 1 ? CL_R : CL_RGBA, CL_FLOAT);
-    return cl::Image2D(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, format, std::size_t(width),
-                       std::size_t(height), 0, const_cast<float*>(pixels.data()));
-}
-
-cl::Image2D placeholderImage(cl::Context& context, int channels) {
-    return makeImage(context, 1, 1, channels, std::vector<float>(std::size_t(channels), 0.0f));
-}
-
-// All mask weight planes back to back, one float per pixel each.
-std::vector<float> packMaskWeights(const GBuffer& frame, std::size_t count) {
-    std::vector<float> out;
-    out.reserve(count * frame.pixelCount());
-    for (const Plane& plane : frame.mask_weights) {
-        if (plane.components != 1 || plane.samples.size() != frame.pixelCount())
-            throw inputError("decal masks: a weight plane does not match the frame size");
-        out.insert(out.end(), plane.samples.begin(), plane.samples.end());
+// Copies spread over the host's cores: packing is pure memory traffic.
+void parallelCopy(float* out, const float* in, std::size_t count) {
+    const auto blocks = std::ptrdiff_t((count + (1 << 16) - 1) >> 16);
+#pragma omp parallel for schedule(static) if (blocks > 1)
+    for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+        const std::size_t first = std::size_t(b) << 16, n = std::min<std::size_t>(count - first, 1 << 16);
+        std::memcpy(out + first, in + first, n * sizeof(float));
     }
-    return out;
+}
+
+// The position plane (3 or more components) as float4 per pixel.
+void packPosition(const Plane& plane, std::size_t pixels, float* out) {
+    const int copy = std::min(plane.components, 3);
+#pragma omp parallel for schedule(static) if (pixels >= (1u << 16))
+    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(pixels); ++i) {
+        float* o = out + i * 4;
+        for (int c = 0; c < 4; ++c) o[c] = c < copy ? plane.at(std::size_t(i), c) : 0.0f;
+    }
+}
+
+// Room for `needed` list entries with headroom, as the kernels' int capacity.
+std::size_t listCapacity(std::int64_t needed) {
+    if (needed > INT32_MAX / 2) throw deviceError("binning: more than 2^30 tile-decal pairs");
+    return std::size_t(std::max<std::int64_t>(needed + needed / 2, 1024));
 }
 
 }  // namespace
@@ -91,39 +83,51 @@ std::vector<Attribute> compositedAttributes(const DecalScene& scene) {
     return out;
 }
 
+// Everything a frame needs on the device, kept across frames: buffers are reallocated only when
+// a frame is larger than any before it, the pinned staging memory with them.
 struct Compositor::State {
-    cl::Kernel tile_bounds, decal_bounds, coarse_depth, coarse_mask, coarse_count, coarse_fill, bin_count, bin_fill,
-        occlusion;
-    // shading kernels by variant bits (DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT)
-    std::array<cl::Kernel, 4> shade;
+    explicit State(const cl::Program& program) : kernels(program) {}
+    CompositorKernels kernels;
+    cl::CommandQueue queue;  // this compositor's own, so two compositors on a device overlap
+    bool unified = false;    // the device works in host memory (PoCL): buffers are mapped, not copied
+    bool profiling = true;
     cl::Buffer texture_table, texels;
     std::size_t mask_count = 0;
     std::vector<int> texture_entries;           // scene texture index -> texture table entry
     std::array<bool, kDecalTargets> targets{};  // what the scene's decals change
     DecalScene scene;                           // decals only; textures live on the device
+
+    // per frame, kept alive until the queue has passed their (non-blocking) uploads
+    cl_types::DcFrame frame_params{};
+    std::vector<cl_types::DcDecal> decal_params;
+    std::array<cl_int, 2> totals{};  // coarse and tile list lengths, read back with the results
+
+    // device memory, grown on demand
+    StagedBuffer depth, position, masks;
+    std::array<StagedBuffer, kSurfaceGroups> surface;
+    cl::Buffer frame_buffer, decal_buffer, bounds, tile_depth, coarse_depth, coarse_counts, coarse_offsets,
+        chunk_masks, chunk_starts, coarse_lists, tile_counts, tile_offsets, tile_decals, totals_buffer;
+    std::size_t decal_bytes = 0, bounds_bytes = 0, tile_depth_bytes = 0, coarse_depth_bytes = 0,
+                coarse_counts_bytes = 0, coarse_offsets_bytes = 0, chunk_masks_bytes = 0, chunk_starts_bytes = 0,
+                coarse_lists_bytes = 0, tile_counts_bytes = 0, tile_offsets_bytes = 0, tile_decals_bytes = 0;
+    std::size_t coarse_capacity = 0, list_capacity = 0;  // list entries (ints)
+
     // last frame's binning, kept for lastBinning()
-    cl::Buffer tile_depth, tile_offsets, tile_decals;
     int tiles_x = 0, tiles_y = 0;
     std::int64_t bin_entries = 0;
     bool has_binning = false;
 };
 
-Compositor::Compositor(ComputeDevice& device) : device_(device), state_(std::make_unique<State>()) {
-    cl::Program& program = device_.program();
+Compositor::Compositor(ComputeDevice& device) : device_(device) {
     try {
-        state_->tile_bounds = cl::Kernel(program, "dc_tile_bounds");
-        state_->decal_bounds = cl::Kernel(program, "dc_decal_bounds");
-        state_->coarse_depth = cl::Kernel(program, "dc_coarse_depth");
-        state_->coarse_mask = cl::Kernel(program, "dc_coarse_mask");
-        state_->coarse_count = cl::Kernel(program, "dc_coarse_count");
-        state_->coarse_fill = cl::Kernel(program, "dc_coarse_fill");
-        state_->bin_count = cl::Kernel(program, "dc_bin_count");
-        state_->bin_fill = cl::Kernel(program, "dc_bin_fill");
-        state_->shade[0] = cl::Kernel(program, "dc_shade");
-        state_->shade[DC_VARIANT_FLAT] = cl::Kernel(program, "dc_shade_flat");
-        state_->shade[DC_VARIANT_ALBEDO_ONLY] = cl::Kernel(program, "dc_shade_albedo");
-        state_->shade[DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT] = cl::Kernel(program, "dc_shade_albedo_flat");
-        state_->occlusion = cl::Kernel(program, "dc_occlusion_build");
+        state_ = std::make_unique<State>(device_.program());
+        State& s = *state_;
+        s.profiling = device_.profiling();
+        s.queue = cl::CommandQueue(device_.context(), device_.info().device,
+                                   s.profiling ? CL_QUEUE_PROFILING_ENABLE : cl_command_queue_properties(0));
+        s.unified = device_.info().device.getInfo<CL_DEVICE_HOST_UNIFIED_MEMORY>() == CL_TRUE;
+        s.frame_buffer = cl::Buffer(device_.context(), CL_MEM_READ_ONLY, sizeof(cl_types::DcFrame));
+        s.totals_buffer = cl::Buffer(device_.context(), CL_MEM_READ_WRITE, 2 * sizeof(cl_int));
     } catch (const cl::Error& e) {
         throw deviceError(fmt::format("{}: {}: {}", device_.info().name, e.what(), clErrorName(e.err())));
     }
@@ -135,8 +139,8 @@ Compositor::~Compositor() = default;
 void Compositor::setScene(const DecalScene& scene) {
     const PackedTextures packed = packTextures(scene.textures);
     try {
-        state_->texture_table = makeBuffer(device_.context(), CL_MEM_READ_ONLY, packed.table);
-        state_->texels = makeBuffer(device_.context(), CL_MEM_READ_ONLY, packed.texels);
+        state_->texture_table = makeBuffer(device_.context(), packed.table);
+        state_->texels = makeBuffer(device_.context(), packed.texels);
     } catch (const cl::Error& e) {
         throw deviceError(fmt::format("{}: uploading decal textures: {}", device_.info().name, clErrorName(e.err())));
     }
@@ -160,7 +164,9 @@ void Compositor::setDecals(const std::vector<Decal>& decals) {
     state_->targets = sceneTargets(state_->scene);
 }
 
-CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const CompositeOptions& options) {
+namespace {
+
+void checkFrame(const GBuffer& frame, std::size_t mask_count) {
     if (!frame.has(Attribute::Albedo)) throw inputError("G-buffer has no albedo pass to decal");
     const bool uses_position = frame.depth_convention == DepthConvention::Position;
     if (uses_position && !frame.has(Attribute::Position))
@@ -168,16 +174,28 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     if (!uses_position && !frame.has(Attribute::Depth)) throw inputError("G-buffer has no depth pass");
     if (frame.width <= 0 || frame.height <= 0 || frame.display_width <= 0 || frame.display_height <= 0)
         throw inputError("G-buffer has an empty data or display window");
-    if (frame.mask_weights.size() != state_->mask_count)
+    if (frame.mask_weights.size() != mask_count)
         throw inputError(fmt::format("decal masks: the frame has {} weight planes, the scene {} masks",
-                                     frame.mask_weights.size(), state_->mask_count));
+                                     frame.mask_weights.size(), mask_count));
+    for (const Plane& plane : frame.mask_weights)
+        if (plane.components != 1 || plane.samples.size() != frame.pixelCount())
+            throw inputError("decal masks: a weight plane does not match the frame size");
+}
 
+}  // namespace
+
+CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const CompositeOptions& options) {
     State& s = *state_;
+    checkFrame(frame, s.mask_count);
+    CompositeStats stats;
+    if (s.scene.decals.empty()) return stats;  // nothing to blend: the planes stay as they are
+
     cl::Context& context = device_.context();
-    cl::CommandQueue& queue = device_.queue();
-    auto decals = makeDecalParams(s.scene, camera, s.texture_entries);
-    const OcclusionLayout occlusion = layoutOcclusionMaps(s.scene.decals, decals);
-    cl_types::DcFrame params = makeFrameParams(frame, camera, int(decals.size()));
+    cl::CommandQueue& queue = s.queue;
+    s.decal_params = makeDecalParams(s.scene, camera, s.texture_entries);
+    const OcclusionLayout occlusion = layoutOcclusionMaps(s.scene.decals, s.decal_params);
+    s.frame_params = makeFrameParams(frame, camera, int(s.decal_params.size()));
+    cl_types::DcFrame& params = s.frame_params;
     // Normals are read for angle fades, mip footprints, occlusion slopes and normal maps: skip
     // their upload otherwise.
     const bool needs_footprint = std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
@@ -185,180 +203,171 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     const bool needs_normals = needs_footprint || !occlusion.occluders.empty() ||
                                std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
                                            [](const Decal& d) { return d.angle_fade_deg[1] > 0.0; });
-    const SurfacePlanes surface = packSurface(frame, camera, s.targets, needs_normals);
+    const SurfaceLayout surface = surfaceLayout(frame, s.targets, needs_normals);
     params.attributes = surface.attributes;
     params.has_normal = (surface.attributes & (1 << DC_TARGET_NORMAL)) ? 1 : 0;
     params.reconstruct_normals = needs_normals && !params.has_normal ? 1 : 0;
     params.needs_footprint = needs_footprint ? 1 : 0;
     const std::size_t pixels = frame.pixelCount();
-    const int tiles = params.tiles_x * params.tiles_y;
+    const std::size_t decals = s.decal_params.size();
+    const std::size_t tiles = std::size_t(params.tiles_x) * std::size_t(params.tiles_y);
+    const std::size_t coarse = std::size_t((params.tiles_x + kCoarse - 1) / kCoarse) *
+                               std::size_t((params.tiles_y + kCoarse - 1) / kCoarse);
+    const std::size_t chunks = (decals + 63) / 64;  // decals per mask word
+    const bool binned = options.binned;
+    const bool uses_position = frame.depth_convention == DepthConvention::Position;
+    stats.decals = int(decals);
+    stats.tiles = int(tiles);
 
-    CompositeStats stats;
-    stats.decals = int(decals.size());
-    stats.tiles = tiles;
     try {
-        cl::Buffer frame_buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(params),
-                                const_cast<cl_types::DcFrame*>(&params));
-        cl::Image2D depth = frame.has(Attribute::Depth)
-                                ? makeImage(context, frame.width, frame.height, 1,
-                                            imagePixels(frame.planes.at(Attribute::Depth), pixels, 1))
-                                : placeholderImage(context, 1);
-        cl::Image2D position = uses_position ? makeImage(context, frame.width, frame.height, 4,
-                                                         imagePixels(frame.planes.at(Attribute::Position), pixels, 4))
-                                             : placeholderImage(context, 4);
-        std::array<cl::Image2D, kSurfaceGroups> surface_in;
-        std::array<cl::Buffer, kSurfaceGroups> surface_out;
-        for (int g = 0; g < kSurfaceGroups; ++g) {
-            const bool used = surface.groupUsed(g);
-            surface_in[std::size_t(g)] =
-                used ? makeImage(context, frame.width, frame.height, 4, surface.groups[std::size_t(g)])
-                     : placeholderImage(context, 4);
-            surface_out[std::size_t(g)] =
-                cl::Buffer(context, CL_MEM_WRITE_ONLY, (used ? pixels : 1) * sizeof(cl_float4));
-        }
-        cl::Buffer decal_buffer = makeBuffer(context, CL_MEM_READ_ONLY, decals);
-        cl::Buffer mask_buffer = makeBuffer(context, CL_MEM_READ_ONLY, packMaskWeights(frame, s.mask_count));
+        // ---- device memory for this size (reallocated only when it grows) ----
+        s.depth.reserve(context, queue, (frame.has(Attribute::Depth) ? pixels : 1) * sizeof(float), s.unified);
+        s.position.reserve(context, queue, (uses_position ? pixels : 1) * sizeof(cl_float4), s.unified);
+        for (int g = 0; g < kSurfaceGroups; ++g)
+            s.surface[std::size_t(g)].reserve(context, queue, (surface.used[std::size_t(g)] ? pixels : 1) * sizeof(cl_float4),
+                                              s.unified);
+        s.masks.reserve(context, queue, std::max<std::size_t>(s.mask_count * pixels, 1) * sizeof(float), s.unified);
+        reserve(context, s.decal_buffer, s.decal_bytes, decals * sizeof(cl_types::DcDecal));
+        reserve(context, s.bounds, s.bounds_bytes, decals * sizeof(cl_types::DcDecalBounds));
+        reserve(context, s.tile_depth, s.tile_depth_bytes, tiles * sizeof(cl_float2));
+        reserve(context, s.coarse_depth, s.coarse_depth_bytes, coarse * sizeof(cl_float2));
+        reserve(context, s.coarse_counts, s.coarse_counts_bytes, coarse * sizeof(cl_int));
+        reserve(context, s.coarse_offsets, s.coarse_offsets_bytes, (coarse + 1) * sizeof(cl_int));
+        reserve(context, s.chunk_masks, s.chunk_masks_bytes, coarse * chunks * sizeof(cl_ulong));
+        reserve(context, s.chunk_starts, s.chunk_starts_bytes, coarse * chunks * sizeof(cl_int));
+        reserve(context, s.tile_counts, s.tile_counts_bytes, tiles * sizeof(cl_int));
+        reserve(context, s.tile_offsets, s.tile_offsets_bytes, (tiles + 1) * sizeof(cl_int));
+        if (s.coarse_capacity == 0) s.coarse_capacity = listCapacity(std::int64_t(coarse) * 4 + std::int64_t(decals) * 4);
+        if (s.list_capacity == 0) s.list_capacity = listCapacity(std::int64_t(tiles) * 4 + std::int64_t(decals) * 16);
 
-        s.tile_depth = cl::Buffer(context, CL_MEM_READ_WRITE, std::size_t(tiles) * sizeof(cl_float2));
-        s.tile_offsets = cl::Buffer(context, CL_MEM_READ_WRITE, std::size_t(tiles + 1) * sizeof(cl_int));
-        std::vector<int> offsets(std::size_t(tiles) + 1, 0);
+        // ---- one pass; a second only when a list outgrew its capacity (then grown to fit) ----
+        for (int attempt = 0;; ++attempt) {
+            reserve(context, s.coarse_lists, s.coarse_lists_bytes, s.coarse_capacity * sizeof(cl_int));
+            reserve(context, s.tile_decals, s.tile_decals_bytes, s.list_capacity * sizeof(cl_int));
+            queue.enqueueWriteBuffer(s.frame_buffer, CL_FALSE, 0, sizeof(params), &params);
+            queue.enqueueWriteBuffer(s.decal_buffer, CL_FALSE, 0, decals * sizeof(cl_types::DcDecal),
+                                     s.decal_params.data());
+            // Planes go from the G-buffer straight into the device's staging memory.
+            if (frame.has(Attribute::Depth)) {
+                auto* out = static_cast<float*>(s.depth.beginUpload(queue));
+                parallelCopy(out, frame.planes.at(Attribute::Depth).samples.data(), pixels);
+                s.depth.upload(queue, pixels * sizeof(float));
+            }
+            if (uses_position) {
+                packPosition(frame.planes.at(Attribute::Position), pixels, static_cast<float*>(s.position.beginUpload(queue)));
+                s.position.upload(queue, pixels * sizeof(cl_float4));
+            }
+            for (int g = 0; g < kSurfaceGroups; ++g) {
+                if (!surface.used[std::size_t(g)]) continue;
+                StagedBuffer& group = s.surface[std::size_t(g)];
+                packSurfaceGroup(frame, camera, surface, g, static_cast<float*>(group.beginUpload(queue)));
+                group.upload(queue, pixels * sizeof(cl_float4));
+            }
+            if (s.mask_count > 0) {
+                auto* out = static_cast<float*>(s.masks.beginUpload(queue));
+                for (std::size_t m = 0; m < s.mask_count; ++m)
+                    parallelCopy(out + m * pixels, frame.mask_weights[m].samples.data(), pixels);
+                s.masks.upload(queue, s.mask_count * pixels * sizeof(float));
+            }
 
-        if (options.binned && !decals.empty()) {
-            cl::Event e_tiles, e_bounds, e_count, e_fill;
-            s.tile_bounds.setArg(0, frame_buffer);
-            s.tile_bounds.setArg(1, depth);
-            s.tile_bounds.setArg(2, position);
-            s.tile_bounds.setArg(3, s.tile_depth);
-            queue.enqueueNDRangeKernel(
-                s.tile_bounds, cl::NullRange,
-                cl::NDRange(std::size_t(params.tiles_x) * DC_TILE_SIZE, std::size_t(params.tiles_y) * DC_TILE_SIZE),
-                cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE), nullptr, &e_tiles);
+            cl::Event e_tiles, e_bounds, e_cdepth, e_cmask, e_ccount, e_cscan, e_cfill, e_count, e_scan, e_fill;
+            const cl::Buffer& depth = s.depth.device();
+            const cl::Buffer& position = s.position.device();
+            CompositorKernels& k = s.kernels;
+            if (binned) {
+                e_tiles = k.tile_bounds(
+                    cl::EnqueueArgs(queue,
+                                    cl::NDRange(std::size_t(params.tiles_x) * DC_TILE_SIZE,
+                                                std::size_t(params.tiles_y) * DC_TILE_SIZE),
+                                    cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE)),
+                    s.frame_buffer, depth, position, s.tile_depth);
+                e_bounds = k.decal_bounds(
+                    cl::EnqueueArgs(queue, cl::NDRange(roundUp(decals, kBinGroupSize)), cl::NDRange(kBinGroupSize)),
+                    s.frame_buffer, s.decal_buffer, s.bounds);
+                // Level 1: coarse tiles against every decal, 64 decals per mask word.
+                const cl::NDRange coarse_range(roundUp(coarse, kBinGroupSize)),
+                    pair_range(roundUp(coarse * chunks, kBinGroupSize));
+                const cl::NDRange scan_range(kScanGroup);
+                e_cdepth = k.coarse_depth(cl::EnqueueArgs(queue, coarse_range), s.frame_buffer, s.tile_depth,
+                                          s.coarse_depth);
+                e_cmask = k.coarse_mask(cl::EnqueueArgs(queue, pair_range), s.frame_buffer, s.bounds, s.coarse_depth,
+                                        s.chunk_masks);
+                e_ccount = k.coarse_count(cl::EnqueueArgs(queue, coarse_range), s.frame_buffer, s.chunk_masks,
+                                          s.chunk_starts, s.coarse_counts);
+                e_cscan = k.scan(cl::EnqueueArgs(queue, scan_range, scan_range), s.coarse_counts, cl_int(coarse),
+                                 s.coarse_offsets);
+                e_cfill = k.coarse_fill(cl::EnqueueArgs(queue, pair_range), s.frame_buffer, s.chunk_masks,
+                                        s.chunk_starts, s.coarse_offsets, s.coarse_lists, cl_int(s.coarse_capacity));
+                // Level 2: each tile against its coarse tile's list.
+                const cl::NDRange tile_range(roundUp(tiles, kBinGroupSize));
+                e_count = k.bin_count(cl::EnqueueArgs(queue, tile_range), s.frame_buffer, s.bounds, s.tile_depth,
+                                      s.coarse_offsets, s.coarse_lists, cl_int(s.coarse_capacity), s.tile_counts);
+                e_scan = k.scan(cl::EnqueueArgs(queue, scan_range, scan_range), s.tile_counts, cl_int(tiles),
+                                s.tile_offsets);
+                e_fill = k.bin_fill(cl::EnqueueArgs(queue, tile_range), s.frame_buffer, s.bounds, s.tile_depth,
+                                    s.coarse_offsets, s.coarse_lists, cl_int(s.coarse_capacity), s.tile_offsets,
+                                    s.tile_decals, cl_int(s.list_capacity));
+                queue.enqueueCopyBuffer(s.coarse_offsets, s.totals_buffer, coarse * sizeof(cl_int), 0, sizeof(cl_int));
+                queue.enqueueCopyBuffer(s.tile_offsets, s.totals_buffer, tiles * sizeof(cl_int), sizeof(cl_int),
+                                        sizeof(cl_int));
+                queue.enqueueReadBuffer(s.totals_buffer, CL_FALSE, 0, sizeof(s.totals), s.totals.data());
+            }
 
-            cl::Buffer bounds(context, CL_MEM_READ_WRITE, decals.size() * sizeof(cl_types::DcDecalBounds));
-            s.decal_bounds.setArg(0, frame_buffer);
-            s.decal_bounds.setArg(1, decal_buffer);
-            s.decal_bounds.setArg(2, bounds);
-            queue.enqueueNDRangeKernel(s.decal_bounds, cl::NullRange,
-                                       cl::NDRange(roundUp(decals.size(), kBinGroupSize)), cl::NDRange(kBinGroupSize),
-                                       nullptr, &e_bounds);
+            cl::Event e_occlusion;
+            const cl::Buffer occlusion_maps =
+                buildOcclusionMaps(context, queue, k, occlusion, s.frame_buffer, depth, position, s.decal_buffer,
+                                   frame.width, frame.height, &e_occlusion);
 
-            // Level 1: coarse tiles against every decal.
-            const int coarse_x = (params.tiles_x + kCoarse - 1) / kCoarse,
-                      coarse_y = (params.tiles_y + kCoarse - 1) / kCoarse;
-            const std::size_t coarse = std::size_t(coarse_x) * coarse_y;
-            const cl::NDRange coarse_range(roundUp(coarse, kBinGroupSize));
-            cl::Buffer coarse_depth(context, CL_MEM_READ_WRITE, coarse * sizeof(cl_float2));
-            const std::size_t chunks = (decals.size() + 63) / 64;  // decals per mask word
-            cl::Buffer coarse_counts(context, CL_MEM_READ_WRITE, coarse * sizeof(cl_int));
-            cl::Buffer masks(context, CL_MEM_READ_WRITE, coarse * chunks * sizeof(cl_ulong));
-            cl::Buffer chunk_starts(context, CL_MEM_READ_WRITE, coarse * chunks * sizeof(cl_int));
-            const cl::NDRange pair_range(roundUp(coarse * chunks, kBinGroupSize));
-            cl::Event e_cdepth, e_cmask, e_ccount, e_cfill;
-            s.coarse_depth.setArg(0, frame_buffer);
-            s.coarse_depth.setArg(1, s.tile_depth);
-            s.coarse_depth.setArg(2, coarse_depth);
-            queue.enqueueNDRangeKernel(s.coarse_depth, cl::NullRange, coarse_range, cl::NullRange, nullptr, &e_cdepth);
-            s.coarse_mask.setArg(0, frame_buffer);
-            s.coarse_mask.setArg(1, bounds);
-            s.coarse_mask.setArg(2, coarse_depth);
-            s.coarse_mask.setArg(3, masks);
-            queue.enqueueNDRangeKernel(s.coarse_mask, cl::NullRange, pair_range, cl::NullRange, nullptr, &e_cmask);
-            s.coarse_count.setArg(0, frame_buffer);
-            s.coarse_count.setArg(1, masks);
-            s.coarse_count.setArg(2, chunk_starts);
-            s.coarse_count.setArg(3, coarse_counts);
-            queue.enqueueNDRangeKernel(s.coarse_count, cl::NullRange, coarse_range, cl::NullRange, nullptr, &e_ccount);
-            const std::vector<int> coarse_offsets = prefixSum(queue, coarse_counts, coarse);
-            cl::Buffer coarse_offset_buffer = makeBuffer(context, CL_MEM_READ_ONLY, coarse_offsets);
-            cl::Buffer coarse_lists(context, CL_MEM_READ_WRITE,
-                                    std::size_t(std::max(coarse_offsets.back(), 1)) * sizeof(cl_int));
-            s.coarse_fill.setArg(0, frame_buffer);
-            s.coarse_fill.setArg(1, masks);
-            s.coarse_fill.setArg(2, chunk_starts);
-            s.coarse_fill.setArg(3, coarse_offset_buffer);
-            s.coarse_fill.setArg(4, coarse_lists);
-            queue.enqueueNDRangeKernel(s.coarse_fill, cl::NullRange, pair_range, cl::NullRange, nullptr, &e_cfill);
-
-            // Level 2: each tile against its coarse tile's list.
-            cl::Buffer counts(context, CL_MEM_READ_WRITE, std::size_t(tiles) * sizeof(cl_int));
-            const cl::NDRange tile_range(roundUp(std::size_t(tiles), kBinGroupSize));
-            s.bin_count.setArg(0, frame_buffer);
-            s.bin_count.setArg(1, bounds);
-            s.bin_count.setArg(2, s.tile_depth);
-            s.bin_count.setArg(3, coarse_offset_buffer);
-            s.bin_count.setArg(4, coarse_lists);
-            s.bin_count.setArg(5, counts);
-            queue.enqueueNDRangeKernel(s.bin_count, cl::NullRange, tile_range, cl::NullRange, nullptr, &e_count);
-            offsets = prefixSum(queue, counts, std::size_t(tiles));
-            const std::int64_t total = offsets.back();
-            s.bin_entries = total;
-            queue.enqueueWriteBuffer(s.tile_offsets, CL_FALSE, 0, offsets.size() * sizeof(int), offsets.data());
-            s.tile_decals =
-                cl::Buffer(context, CL_MEM_READ_WRITE, std::size_t(std::max<std::int64_t>(total, 1)) * sizeof(cl_int));
-            s.bin_fill.setArg(0, frame_buffer);
-            s.bin_fill.setArg(1, bounds);
-            s.bin_fill.setArg(2, s.tile_depth);
-            s.bin_fill.setArg(3, coarse_offset_buffer);
-            s.bin_fill.setArg(4, coarse_lists);
-            s.bin_fill.setArg(5, s.tile_offsets);
-            s.bin_fill.setArg(6, s.tile_decals);
-            queue.enqueueNDRangeKernel(s.bin_fill, cl::NullRange, tile_range, cl::NullRange, nullptr, &e_fill);
+            // The leanest shading kernel that fits: albedo only without blast occlusion; 2D kinds only.
+            const bool albedo_only = occlusion.occluders.empty() &&
+                                     std::none_of(s.targets.begin() + 1, s.targets.end(), [](bool t) { return t; });
+            const bool flat = std::all_of(s.scene.decals.begin(), s.scene.decals.end(), [](const Decal& d) {
+                return d.kind == DecalKind::Box || d.kind == DecalKind::Frustum;
+            });
+            CompositorKernels::Shade& shade =
+                k.shade[std::size_t((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0))];
+            const cl::Event e_shade = shade(
+                cl::EnqueueArgs(queue, cl::NDRange(std::size_t(frame.width), std::size_t(frame.height))),
+                s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(), s.surface[2].device(),
+                s.decal_buffer, s.texture_table, s.texels, s.tile_offsets, s.tile_decals, cl_int(binned ? 1 : 0),
+                cl_int(s.list_capacity), s.masks.device(), occlusion_maps);
+            // Only the groups that hold a changed attribute come back.
+            for (int g = 0; g < kSurfaceGroups; ++g)
+                if (groupWrittenBack(surface, s.targets, g))
+                    s.surface[std::size_t(g)].enqueueDownload(queue, pixels * sizeof(cl_float4));
             queue.finish();
-            stats.tile_bounds_ms = eventMs(e_tiles);
-            stats.binning_ms = eventMs(e_bounds) + eventMs(e_cdepth) + eventMs(e_cmask) + eventMs(e_ccount) +
-                               eventMs(e_cfill) + eventMs(e_count) + eventMs(e_fill);
-            stats.bin_entries = s.bin_entries;
-            s.tiles_x = params.tiles_x;
-            s.tiles_y = params.tiles_y;
-            s.has_binning = true;
-        } else {
-            s.tile_decals = cl::Buffer(context, CL_MEM_READ_WRITE, sizeof(cl_int));
-            queue.enqueueWriteBuffer(s.tile_offsets, CL_FALSE, 0, offsets.size() * sizeof(int), offsets.data());
-            s.has_binning = false;
-        }
 
-        cl::Event e_occlusion;
-        const cl::Buffer occlusion_maps =
-            buildOcclusionMaps(context, queue, s.occlusion, occlusion, frame_buffer, depth, position, decal_buffer,
-                               frame.width, frame.height, &e_occlusion);
-
-        cl::Event e_shade;
-        // The leanest shading kernel that fits: albedo only without blast occlusion; 2D kinds only.
-        const bool albedo_only = occlusion.occluders.empty() &&
-                                 std::none_of(s.targets.begin() + 1, s.targets.end(), [](bool t) { return t; });
-        const bool flat = std::all_of(s.scene.decals.begin(), s.scene.decals.end(), [](const Decal& d) {
-            return d.kind == DecalKind::Box || d.kind == DecalKind::Frustum;
-        });
-        cl::Kernel& shade =
-            s.shade[std::size_t((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0))];
-        shade.setArg(0, frame_buffer);
-        shade.setArg(1, depth);
-        shade.setArg(2, position);
-        for (int g = 0; g < kSurfaceGroups; ++g) {
-            shade.setArg(cl_uint(3 + g), surface_in[std::size_t(g)]);
-            shade.setArg(cl_uint(6 + g), surface_out[std::size_t(g)]);
+            if (binned && (std::size_t(s.totals[0]) > s.coarse_capacity || std::size_t(s.totals[1]) > s.list_capacity)) {
+                if (attempt > 0) throw deviceError("binning: the tile lists outgrew their capacity twice");
+                s.coarse_capacity = std::max(s.coarse_capacity, listCapacity(s.totals[0]));
+                s.list_capacity = std::max(s.list_capacity, listCapacity(s.totals[1]));
+                continue;  // the planes are untouched until unpacked: run the frame again
+            }
+            for (int g = 0; g < kSurfaceGroups; ++g) {
+                if (!groupWrittenBack(surface, s.targets, g)) continue;
+                StagedBuffer& group = s.surface[std::size_t(g)];
+                unpackSurfaceGroup(frame, camera, surface, g,
+                                   static_cast<const float*>(group.beginDownload(queue, pixels * sizeof(cl_float4))),
+                                   s.targets);
+                group.endDownload(queue);
+            }
+            if (s.profiling) {
+                stats.shading_ms = eventMs(e_shade);
+                if (!occlusion.occluders.empty()) stats.occlusion_ms = eventMs(e_occlusion);
+                if (binned) {
+                    stats.tile_bounds_ms = eventMs(e_tiles);
+                    stats.binning_ms = eventMs(e_bounds) + eventMs(e_cdepth) + eventMs(e_cmask) + eventMs(e_ccount) +
+                                       eventMs(e_cscan) + eventMs(e_cfill) + eventMs(e_count) + eventMs(e_scan) +
+                                       eventMs(e_fill);
+                }
+            }
+            break;
         }
-        shade.setArg(9, decal_buffer);
-        shade.setArg(10, s.texture_table);
-        shade.setArg(11, s.texels);
-        shade.setArg(12, s.tile_offsets);
-        shade.setArg(13, s.tile_decals);
-        shade.setArg(14, cl_int(options.binned && !decals.empty() ? 1 : 0));
-        shade.setArg(15, mask_buffer);
-        shade.setArg(16, occlusion_maps);
-        queue.enqueueNDRangeKernel(shade, cl::NullRange,
-                                   cl::NDRange(std::size_t(frame.width), std::size_t(frame.height)), cl::NullRange,
-                                   nullptr, &e_shade);
-        std::array<std::vector<float>, kSurfaceGroups> results;
-        for (int g = 0; g < kSurfaceGroups; ++g) {
-            if (!groupWrittenBack(surface, s.targets, g)) continue;
-            results[std::size_t(g)].resize(pixels * 4);
-            queue.enqueueReadBuffer(surface_out[std::size_t(g)], CL_TRUE, 0, pixels * sizeof(cl_float4),
-                                    results[std::size_t(g)].data());
-        }
-        stats.shading_ms = eventMs(e_shade);
-        if (!occlusion.occluders.empty()) stats.occlusion_ms = eventMs(e_occlusion);
-        unpackSurface(frame, camera, surface, results, s.targets);
+        s.has_binning = binned;
+        s.bin_entries = binned ? s.totals[1] : 0;
+        stats.bin_entries = s.bin_entries;
+        s.tiles_x = params.tiles_x;
+        s.tiles_y = params.tiles_y;
     } catch (const cl::Error& e) {
         throw deviceError(fmt::format("{}: {} failed: {}", device_.info().name, e.what(), clErrorName(e.err())));
     }
@@ -375,7 +384,7 @@ BinningResult Compositor::lastBinning() {
     r.tile_depth.resize(tiles * 2);
     r.tile_offsets.resize(tiles + 1);
     r.tile_decals.resize(std::size_t(s.bin_entries));
-    cl::CommandQueue& queue = device_.queue();
+    cl::CommandQueue& queue = s.queue;
     queue.enqueueReadBuffer(s.tile_depth, CL_TRUE, 0, r.tile_depth.size() * sizeof(float), r.tile_depth.data());
     queue.enqueueReadBuffer(s.tile_offsets, CL_TRUE, 0, r.tile_offsets.size() * sizeof(int), r.tile_offsets.data());
     if (!r.tile_decals.empty())

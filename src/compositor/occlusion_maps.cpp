@@ -31,9 +31,9 @@ OcclusionLayout layoutOcclusionMaps(const std::vector<Decal>& decals, std::vecto
     return layout;
 }
 
-cl::Buffer buildOcclusionMaps(cl::Context& context, cl::CommandQueue& queue, cl::Kernel& kernel,
-                              const OcclusionLayout& layout, const cl::Buffer& frame, const cl::Image2D& depth,
-                              const cl::Image2D& position, const cl::Buffer& decals, int width, int height,
+cl::Buffer buildOcclusionMaps(cl::Context& context, cl::CommandQueue& queue, CompositorKernels& kernels,
+                              const OcclusionLayout& layout, const cl::Buffer& frame, const cl::Buffer& depth,
+                              const cl::Buffer& position, const cl::Buffer& decals, int width, int height,
                               cl::Event* event) {
     const std::size_t texels = std::max<std::size_t>(layout.texels, 1);
     cl::Buffer maps(context, CL_MEM_READ_WRITE, texels * sizeof(cl_uint));
@@ -42,15 +42,8 @@ cl::Buffer buildOcclusionMaps(cl::Context& context, cl::CommandQueue& queue, cl:
     queue.enqueueFillBuffer(maps, infinity_bits, 0, texels * sizeof(cl_uint));
     cl::Buffer occluders(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, layout.occluders.size() * sizeof(cl_int),
                          const_cast<int*>(layout.occluders.data()));
-    kernel.setArg(0, frame);
-    kernel.setArg(1, depth);
-    kernel.setArg(2, position);
-    kernel.setArg(3, decals);
-    kernel.setArg(4, occluders);
-    kernel.setArg(5, cl_int(layout.occluders.size()));
-    kernel.setArg(6, maps);
-    queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(std::size_t(width), std::size_t(height)),
-                               cl::NullRange, nullptr, event);
+    *event = kernels.occlusion_build(cl::EnqueueArgs(queue, cl::NDRange(std::size_t(width), std::size_t(height))),
+                                     frame, depth, position, decals, occluders, cl_int(layout.occluders.size()), maps);
     return maps;
 }
 

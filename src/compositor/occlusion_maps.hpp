@@ -3,6 +3,8 @@
 // lies in one device buffer, and the kernel that fills them from the frame's points.
 #include <vector>
 
+#include "compositor/kernels.hpp"
+
 #include "decalcomp/decal.hpp"
 #include "decalcomp/device.hpp"
 #include "shared_types.h"
@@ -19,9 +21,9 @@ OcclusionLayout layoutOcclusionMaps(const std::vector<Decal>& decals, std::vecto
 
 // Fills the maps (+inf, then every valid pixel's distance per occluder) on the device and returns
 // the buffer (one placeholder texel when no decal occludes). `event` times the build kernel.
-cl::Buffer buildOcclusionMaps(cl::Context& context, cl::CommandQueue& queue, cl::Kernel& kernel,
-                              const OcclusionLayout& layout, const cl::Buffer& frame, const cl::Image2D& depth,
-                              const cl::Image2D& position, const cl::Buffer& decals, int width, int height,
+cl::Buffer buildOcclusionMaps(cl::Context& context, cl::CommandQueue& queue, CompositorKernels& kernels,
+                              const OcclusionLayout& layout, const cl::Buffer& frame, const cl::Buffer& depth,
+                              const cl::Buffer& position, const cl::Buffer& decals, int width, int height,
                               cl::Event* event);
 
 }  // namespace decalcomp

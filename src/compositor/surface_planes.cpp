@@ -32,6 +32,16 @@ int componentsOf(DecalTarget target) {
 
 bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
+// Packing and unpacking are pure memory traffic: spread them over the host's cores for frames
+// large enough to pay for the threads.
+constexpr std::ptrdiff_t kParallelPixels = 1 << 16;
+
+glm::vec3 storedNormal(const Plane& plane, std::size_t pixel, int copy) {
+    glm::vec3 stored(0.0f);
+    for (int c = 0; c < copy; ++c) stored[c] = plane.at(pixel, c);
+    return stored;
+}
+
 }  // namespace
 
 Attribute targetAttribute(DecalTarget target) {
@@ -46,70 +56,87 @@ Attribute targetAttribute(DecalTarget target) {
     return Attribute::Albedo;
 }
 
-SurfacePlanes packSurface(const GBuffer& frame, const Camera& camera, const std::array<bool, kDecalTargets>& targets,
-                          bool with_normals) {
-    SurfacePlanes out;
-    const std::size_t pixels = frame.pixelCount();
-    const NormalCodec normals(frame.normal_encoding, camera);
+SurfaceLayout surfaceLayout(const GBuffer& frame, const std::array<bool, kDecalTargets>& targets, bool with_normals) {
+    SurfaceLayout layout;
     for (int t = 0; t < kDecalTargets; ++t) {
         const auto target = DecalTarget(t);
-        const Attribute attribute = targetAttribute(target);
         const bool wanted = target == DecalTarget::Albedo || targets[std::size_t(t)] ||
                             (target == DecalTarget::Normal && with_normals);
-        if (!wanted || !frame.has(attribute)) continue;
-        const Plane& plane = frame.planes.at(attribute);
-        const Slot slot = slotOf(target);
-        std::vector<float>& group = out.groups[std::size_t(slot.group)];
-        if (group.empty()) group.assign(pixels * 4, 0.0f);
-        const int copy = std::min(componentsOf(target), plane.components);
-        for (std::size_t i = 0; i < pixels; ++i) {
-            if (target == DecalTarget::Normal) {
-                glm::vec3 stored(0.0f);
-                for (int c = 0; c < copy; ++c) stored[c] = plane.at(i, c);
-                const glm::vec3 n = normals.toWorld(stored);
-                for (int c = 0; c < 3; ++c) group[i * 4 + std::size_t(c)] = n[c];
-            } else {
-                for (int c = 0; c < copy; ++c) group[i * 4 + std::size_t(slot.first + c)] = plane.at(i, c);
-            }
-        }
-        out.attributes |= 1 << t;
+        if (!wanted || !frame.has(targetAttribute(target))) continue;
+        layout.attributes |= 1 << t;
+        layout.used[std::size_t(slotOf(target).group)] = true;
     }
-    return out;
+    return layout;
 }
 
-bool groupWrittenBack(const SurfacePlanes& uploaded, const std::array<bool, kDecalTargets>& targets, int group) {
+void packSurfaceGroup(const GBuffer& frame, const Camera& camera, const SurfaceLayout& layout, int group, float* out) {
+    const auto pixels = std::ptrdiff_t(frame.pixelCount());
+    const NormalCodec normals(frame.normal_encoding, camera);
+    // Which plane feeds each of the pixel's four floats (nullptr: 0).
+    std::array<const Plane*, 4> source{};
+    std::array<int, 4> component{};
+    const Plane* normal = nullptr;
+    int normal_copy = 0;
+    for (int t = 0; t < kDecalTargets; ++t) {
+        const auto target = DecalTarget(t);
+        const Slot slot = slotOf(target);
+        if (slot.group != group || !(layout.attributes & (1 << t))) continue;
+        const Plane& plane = frame.planes.at(targetAttribute(target));
+        const int copy = std::min(componentsOf(target), plane.components);
+        if (target == DecalTarget::Normal) {
+            normal = &plane;
+            normal_copy = copy;
+            continue;
+        }
+        for (int c = 0; c < copy; ++c) {
+            source[std::size_t(slot.first + c)] = &plane;
+            component[std::size_t(slot.first + c)] = c;
+        }
+    }
+#pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
+    for (std::ptrdiff_t i = 0; i < pixels; ++i) {
+        float* o = out + i * 4;
+        for (int c = 0; c < 4; ++c) o[c] = source[std::size_t(c)] ? source[std::size_t(c)]->at(std::size_t(i), component[std::size_t(c)]) : 0.0f;
+        if (normal) {
+            const glm::vec3 n = normals.toWorld(storedNormal(*normal, std::size_t(i), normal_copy));
+            o[0] = n.x, o[1] = n.y, o[2] = n.z;
+        }
+    }
+}
+
+bool groupWrittenBack(const SurfaceLayout& layout, const std::array<bool, kDecalTargets>& targets, int group) {
     for (int t = 0; t < kDecalTargets; ++t)
-        if (slotOf(DecalTarget(t)).group == group && (uploaded.attributes & (1 << t)) &&
+        if (slotOf(DecalTarget(t)).group == group && (layout.attributes & (1 << t)) &&
             (DecalTarget(t) == DecalTarget::Albedo || targets[std::size_t(t)]))
             return true;
     return false;
 }
 
-void unpackSurface(GBuffer& frame, const Camera& camera, const SurfacePlanes& uploaded,
-                   const std::array<std::vector<float>, kSurfaceGroups>& results,
-                   const std::array<bool, kDecalTargets>& targets) {
-    const std::size_t pixels = frame.pixelCount();
+void unpackSurfaceGroup(GBuffer& frame, const Camera& camera, const SurfaceLayout& layout, int group,
+                        const float* result, const std::array<bool, kDecalTargets>& targets) {
+    const auto pixels = std::ptrdiff_t(frame.pixelCount());
     const NormalCodec normals(frame.normal_encoding, camera);
     for (int t = 0; t < kDecalTargets; ++t) {
         const auto target = DecalTarget(t);
-        if (!(uploaded.attributes & (1 << t))) continue;
-        if (!targets[std::size_t(t)] && target != DecalTarget::Albedo) continue;
         const Slot slot = slotOf(target);
-        const std::vector<float>& result = results[std::size_t(slot.group)];
-        const std::vector<float>& before = uploaded.groups[std::size_t(slot.group)];
+        if (slot.group != group || !(layout.attributes & (1 << t))) continue;
+        if (!targets[std::size_t(t)] && target != DecalTarget::Albedo) continue;
         Plane& plane = frame.planes.at(targetAttribute(target));
         const int copy = std::min(componentsOf(target), plane.components);
-        for (std::size_t i = 0; i < pixels; ++i) {
-            const float* r = &result[i * 4];
-            if (target == DecalTarget::Normal) {
-                const float* b = &before[i * 4];
-                if (sameBits(r[0], b[0]) && sameBits(r[1], b[1]) && sameBits(r[2], b[2])) continue;
+        if (target == DecalTarget::Normal) {
+#pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
+            for (std::ptrdiff_t i = 0; i < pixels; ++i) {
+                const float* r = result + i * 4;
+                const glm::vec3 before = normals.toWorld(storedNormal(plane, std::size_t(i), copy));
+                if (sameBits(r[0], before.x) && sameBits(r[1], before.y) && sameBits(r[2], before.z)) continue;
                 const glm::vec3 n = normals.toStored(glm::vec3(r[0], r[1], r[2]));
-                for (int c = 0; c < copy; ++c) plane.at(i, c) = n[c];
-            } else {
-                for (int c = 0; c < copy; ++c) plane.at(i, c) = r[slot.first + c];
+                for (int c = 0; c < copy; ++c) plane.at(std::size_t(i), c) = n[c];
             }
+            continue;
         }
+#pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
+        for (std::ptrdiff_t i = 0; i < pixels; ++i)
+            for (int c = 0; c < copy; ++c) plane.at(std::size_t(i), c) = result[i * 4 + slot.first + c];
     }
 }
 

@@ -1,8 +1,8 @@
 #pragma once
 // The frame's material as the shading kernel reads and writes it: three float4 planes,
-// (albedo, roughness), (world-space signed normal, metallic), (emission, ao).
+// (albedo, roughness), (world-space signed normal, metallic), (emission, ao), packed straight
+// from the G-buffer planes into the device's staging memory and unpacked straight back.
 #include <array>
-#include <vector>
 
 #include "decalcomp/camera.hpp"
 #include "decalcomp/decal.hpp"
@@ -14,26 +14,28 @@ constexpr int kSurfaceGroups = 3;
 
 Attribute targetAttribute(DecalTarget target);
 
-struct SurfacePlanes {
+// Which targets a frame's groups hold.
+struct SurfaceLayout {
     int attributes = 0;  // bits (1 << DC_TARGET_x) of the targets packed
-    std::array<std::vector<float>, kSurfaceGroups> groups;  // pixels x 4 floats; empty = not used
-    bool groupUsed(int g) const { return !groups[std::size_t(g)].empty(); }
+    std::array<bool, kSurfaceGroups> used{};
 };
 
-// Packs the planes of `targets` the frame has (albedo always; the normal also when `with_normals`,
-// for fades and footprints). Normals are decoded from the frame's space and encoding to world space.
-SurfacePlanes packSurface(const GBuffer& frame, const Camera& camera, const std::array<bool, kDecalTargets>& targets,
-                          bool with_normals);
+// The planes of `targets` the frame has (albedo always; the normal also when `with_normals`, for
+// fades and footprints).
+SurfaceLayout surfaceLayout(const GBuffer& frame, const std::array<bool, kDecalTargets>& targets, bool with_normals);
 
-// Whether group g holds a plane unpackSurface writes back (the albedo, or a target some decal
-// changes); groups uploaded only to be read (normals for fades) need no read-back.
-bool groupWrittenBack(const SurfacePlanes& uploaded, const std::array<bool, kDecalTargets>& targets, int group);
+// Fills group `group` (pixels x 4 floats at `out`) from the frame's planes; normals are decoded
+// from the frame's space and encoding to world space. Unused slots are 0.
+void packSurfaceGroup(const GBuffer& frame, const Camera& camera, const SurfaceLayout& layout, int group, float* out);
 
-// Writes the kernel's `results` for `targets` back into the frame's planes. Pixels whose
-// decoded normal came back unchanged keep their original samples bit for bit; changed normals are
-// encoded back into the frame's space and encoding.
-void unpackSurface(GBuffer& frame, const Camera& camera, const SurfacePlanes& uploaded,
-                   const std::array<std::vector<float>, kSurfaceGroups>& results,
-                   const std::array<bool, kDecalTargets>& targets);
+// Whether group g holds a plane unpackSurfaceGroup writes back (the albedo, or a target some
+// decal changes); groups uploaded only to be read (normals for fades) need no read-back.
+bool groupWrittenBack(const SurfaceLayout& layout, const std::array<bool, kDecalTargets>& targets, int group);
+
+// Writes the kernel's results for group `group` back into the frame's planes, for the targets
+// in `targets`. Pixels whose normal came back as it was packed keep their original samples bit for
+// bit; changed normals are encoded back into the frame's space and encoding.
+void unpackSurfaceGroup(GBuffer& frame, const Camera& camera, const SurfaceLayout& layout, int group,
+                        const float* result, const std::array<bool, kDecalTargets>& targets);
 
 }  // namespace decalcomp

@@ -1,0 +1,31 @@
+/* Exclusive prefix sum of `n` counts with the total appended (`offsets` has n + 1 entries), in
+ * one work-group, so the host never waits for the counts in the middle of a frame. Each
+ * work-item sums a contiguous run, the runs' sums are scanned in local memory (Hillis-Steele),
+ * then each work-item writes its run's offsets. Lists are at most a few hundred thousand tiles. */
+#include "shared_types.h"
+
+#define DC_SCAN_GROUP 256
+
+__kernel __attribute__((reqd_work_group_size(DC_SCAN_GROUP, 1, 1)))
+void dc_scan(__global const int* counts, int n, __global int* offsets) {
+    __local int sums[DC_SCAN_GROUP];
+    const int lid = get_local_id(0);
+    const int run = (n + DC_SCAN_GROUP - 1) / DC_SCAN_GROUP;
+    const int first = min(n, lid * run), last = min(n, first + run);
+    int sum = 0;
+    for (int i = first; i < last; ++i) sum += counts[i];
+    sums[lid] = sum;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int stride = 1; stride < DC_SCAN_GROUP; stride <<= 1) {
+        const int add = lid >= stride ? sums[lid - stride] : 0;
+        barrier(CLK_LOCAL_MEM_FENCE);
+        sums[lid] += add;
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    int next = lid == 0 ? 0 : sums[lid - 1];
+    for (int i = first; i < last; ++i) {
+        offsets[i] = next;
+        next += counts[i];
+    }
+    if (lid == DC_SCAN_GROUP - 1) offsets[n] = sums[lid];
+}

@@ -1,0 +1,28 @@
+#include "compositor/kernels.hpp"
+
+#include "shared_types.h"
+
+namespace decalcomp {
+
+namespace {
+
+// The shading kernels in DC_VARIANT_x bit order.
+static_assert(DC_VARIANT_ALBEDO_ONLY == 1 && DC_VARIANT_FLAT == 2, "shade[] is indexed by the variant bits");
+
+}  // namespace
+
+CompositorKernels::CompositorKernels(const cl::Program& program)
+    : tile_bounds(program, "dc_tile_bounds"),
+      decal_bounds(program, "dc_decal_bounds"),
+      coarse_depth(program, "dc_coarse_depth"),
+      coarse_mask(program, "dc_coarse_mask"),
+      coarse_count(program, "dc_coarse_count"),
+      coarse_fill(program, "dc_coarse_fill"),
+      bin_count(program, "dc_bin_count"),
+      bin_fill(program, "dc_bin_fill"),
+      scan(program, "dc_scan"),
+      occlusion_build(program, "dc_occlusion_build"),
+      shade{Shade(program, "dc_shade"), Shade(program, "dc_shade_albedo"), Shade(program, "dc_shade_flat"),
+            Shade(program, "dc_shade_albedo_flat")} {}
+
+}  // namespace decalcomp

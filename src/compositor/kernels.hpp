@@ -1,0 +1,42 @@
+#pragma once
+// Typed launches of the compositor's kernels: each functor's argument list is the kernel's
+// signature (kernels/*.cl), so a call with a missing or misplaced argument does not compile.
+#include <CL/opencl.hpp>
+
+#include <array>
+
+namespace decalcomp {
+
+using cl::Buffer;
+
+struct CompositorKernels {
+    explicit CompositorKernels(const cl::Program& program);
+
+    // frame, depth plane, position plane, tile depth ranges
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> tile_bounds;
+    // frame, decals, decal bounds
+    cl::KernelFunctor<Buffer, Buffer, Buffer> decal_bounds;
+    // frame, tile depth, coarse depth
+    cl::KernelFunctor<Buffer, Buffer, Buffer> coarse_depth;
+    // frame, decal bounds, coarse depth, masks
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> coarse_mask;
+    // frame, masks, chunk starts, coarse counts
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> coarse_count;
+    // frame, masks, chunk starts, coarse offsets, coarse lists, coarse capacity
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, cl_int> coarse_fill;
+    // frame, decal bounds, tile depth, coarse offsets, coarse lists, coarse capacity, tile counts
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer> bin_count;
+    // ... as bin_count, then tile offsets, tile lists, list capacity
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer, Buffer, cl_int> bin_fill;
+    // counts, n, offsets (n + 1)
+    cl::KernelFunctor<Buffer, cl_int, Buffer> scan;
+    // frame, depth plane, position plane, decals, occluder indices, occluder count, maps
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer> occlusion_build;
+    // frame, depth, position, surface groups 0-2 (in place), decals, texture table, texels,
+    // tile offsets, tile lists, binned, list capacity, mask weights, occlusion maps
+    using Shade = cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
+                                    Buffer, cl_int, cl_int, Buffer, Buffer>;
+    std::array<Shade, 4> shade;  // by variant bits: DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT
+};
+
+}  // namespace decalcomp

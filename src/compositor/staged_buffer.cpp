@@ -1,0 +1,56 @@
+#include "compositor/staged_buffer.hpp"
+
+#include <algorithm>
+
+namespace decalcomp {
+
+void StagedBuffer::reserve(cl::Context& context, cl::CommandQueue& queue, std::size_t bytes, bool unified) {
+    bytes = std::max<std::size_t>(bytes, 16);  // OpenCL refuses empty buffers
+    if (bytes <= capacity_ && unified == unified_) return;
+    if (view_ && !unified_) queue.enqueueUnmapMemObject(host_, view_);
+    view_ = nullptr;
+    unified_ = unified;
+    capacity_ = bytes;
+    if (unified) {
+        device_ = cl::Buffer(context, CL_MEM_READ_WRITE | CL_MEM_ALLOC_HOST_PTR, bytes);
+        host_ = cl::Buffer();
+    } else {
+        device_ = cl::Buffer(context, CL_MEM_READ_WRITE, bytes);
+        host_ = cl::Buffer(context, CL_MEM_READ_WRITE | CL_MEM_ALLOC_HOST_PTR, bytes);
+        // Mapped once and kept: the pinned pages serve every frame's copies.
+        view_ = queue.enqueueMapBuffer(host_, CL_TRUE, CL_MAP_READ | CL_MAP_WRITE, 0, bytes);
+    }
+}
+
+void* StagedBuffer::beginUpload(cl::CommandQueue& queue) {
+    if (!unified_) return view_;
+    view_ = queue.enqueueMapBuffer(device_, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, capacity_);
+    return view_;
+}
+
+void StagedBuffer::upload(cl::CommandQueue& queue, std::size_t bytes) {
+    if (unified_) {
+        queue.enqueueUnmapMemObject(device_, view_);
+        view_ = nullptr;
+        return;
+    }
+    queue.enqueueWriteBuffer(device_, CL_FALSE, 0, bytes, view_);
+}
+
+void StagedBuffer::enqueueDownload(cl::CommandQueue& queue, std::size_t bytes) {
+    if (!unified_) queue.enqueueReadBuffer(device_, CL_FALSE, 0, bytes, view_);
+}
+
+const void* StagedBuffer::beginDownload(cl::CommandQueue& queue, std::size_t bytes) {
+    if (!unified_) return view_;
+    view_ = queue.enqueueMapBuffer(device_, CL_TRUE, CL_MAP_READ, 0, bytes);
+    return view_;
+}
+
+void StagedBuffer::endDownload(cl::CommandQueue& queue) {
+    if (!unified_ || !view_) return;
+    queue.enqueueUnmapMemObject(device_, view_);
+    view_ = nullptr;
+}
+
+}  // namespace decalcomp

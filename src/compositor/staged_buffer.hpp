@@ -1,0 +1,39 @@
+#pragma once
+// A device buffer with a host view for filling and reading it, kept across frames of one size.
+// On a discrete device (a GPU) the view is pinned host memory and the data moves by DMA; on a
+// device that shares host memory (PoCL's CPU device) the view is the buffer itself, mapped, and
+// nothing is copied.
+#include <CL/opencl.hpp>
+
+#include <cstddef>
+
+namespace decalcomp {
+
+class StagedBuffer {
+public:
+    // Grows to at least `bytes` (never shrinks); contents are undefined after a growth.
+    void reserve(cl::Context& context, cl::CommandQueue& queue, std::size_t bytes, bool unified);
+
+    // The host view to fill; upload() sends `bytes` of it to the device (asynchronous on a
+    // discrete device: the view must stay untouched until the queue has passed the copy).
+    void* beginUpload(cl::CommandQueue& queue);
+    void upload(cl::CommandQueue& queue, std::size_t bytes);
+    // Enqueues the device-to-host copy of `bytes` without waiting (discrete devices); view()
+    // holds them once the queue has finished.
+    void enqueueDownload(cl::CommandQueue& queue, std::size_t bytes);
+    // The downloaded view, after the queue finished (maps the buffer on unified devices);
+    // endDownload() gives it back to the device.
+    const void* beginDownload(cl::CommandQueue& queue, std::size_t bytes);
+    void endDownload(cl::CommandQueue& queue);
+
+    cl::Buffer& device() { return device_; }
+    std::size_t capacity() const { return capacity_; }
+
+private:
+    cl::Buffer device_, host_;
+    void* view_ = nullptr;        // pinned host memory (discrete) or the current mapping (unified)
+    std::size_t capacity_ = 0;
+    bool unified_ = false;
+};
+
+}  // namespace decalcomp
