@@ -3,6 +3,9 @@
 #ifndef DECALCOMP_RECONSTRUCT_H
 #define DECALCOMP_RECONSTRUCT_H
 
+#include "shared_types.h"
+#include "matrix.h"
+
 __constant sampler_t dc_pixel_sampler =
     CLK_NORMALIZED_COORDS_FALSE | CLK_ADDRESS_CLAMP_TO_EDGE | CLK_FILTER_NEAREST;
 
