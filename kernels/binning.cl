@@ -85,18 +85,24 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
     bounds[id] = b;
 }
 
-/* Binning runs at two levels, both keeping decal order: coarse tiles (DC_COARSE x DC_COARSE
- * tiles) test every decal; then each tile tests only its coarse tile's list. Tile ranges are
- * inclusive and in tile units at both levels. */
-#define DC_COARSE 4
+/* Binning runs at two levels, both keeping decal order: coarse tiles (DC_COARSE_TILES x
+ * DC_COARSE_TILES tiles, shared_types.h) test every decal; then each tile tests only its coarse
+ * tile's list. Tile ranges are inclusive and in tile units at both levels. */
+#if DC_DECALS_PER_MASK_WORD != 64
+#error "DC_DECALS_PER_MASK_WORD must be the bit count of the ulong mask words"
+#endif
 
 inline bool dc_overlaps(DcDecalBounds b, int tx0, int ty0, int tx1, int ty1, float2 depth) {
     return tx1 >= b.tile_x0 && tx0 <= b.tile_x1 && ty1 >= b.tile_y0 && ty0 <= b.tile_y1 &&
            b.depth_min <= depth.y && b.depth_max >= depth.x;
 }
 
-inline int dc_coarse_tiles_x(__constant const DcFrame* f) { return (f->tiles_x + DC_COARSE - 1) / DC_COARSE; }
-inline int dc_coarse_tiles_y(__constant const DcFrame* f) { return (f->tiles_y + DC_COARSE - 1) / DC_COARSE; }
+inline int dc_coarse_tiles_x(__constant const DcFrame* f) {
+    return (f->tiles_x + DC_COARSE_TILES - 1) / DC_COARSE_TILES;
+}
+inline int dc_coarse_tiles_y(__constant const DcFrame* f) {
+    return (f->tiles_y + DC_COARSE_TILES - 1) / DC_COARSE_TILES;
+}
 
 /* Depth range of each coarse tile from its tiles' ranges. */
 __kernel void dc_coarse_depth(__constant const DcFrame* frame, __global const float2* tile_depth,
@@ -106,8 +112,8 @@ __kernel void dc_coarse_depth(__constant const DcFrame* frame, __global const fl
     if (c >= cx_count * dc_coarse_tiles_y(frame)) return;
     const int cx = c % cx_count, cy = c / cx_count;
     float2 r = (float2)(MAXFLOAT, -MAXFLOAT);
-    for (int ty = cy * DC_COARSE; ty < min(frame->tiles_y, (cy + 1) * DC_COARSE); ++ty)
-        for (int tx = cx * DC_COARSE; tx < min(frame->tiles_x, (cx + 1) * DC_COARSE); ++tx) {
+    for (int ty = cy * DC_COARSE_TILES; ty < min(frame->tiles_y, (cy + 1) * DC_COARSE_TILES); ++ty)
+        for (int tx = cx * DC_COARSE_TILES; tx < min(frame->tiles_x, (cx + 1) * DC_COARSE_TILES); ++tx) {
             const float2 t = tile_depth[ty * frame->tiles_x + tx];
             r = (float2)(fmin(r.x, t.x), fmax(r.y, t.y));
         }
@@ -115,9 +121,12 @@ __kernel void dc_coarse_depth(__constant const DcFrame* frame, __global const fl
 }
 
 /* Level 1 in three data-parallel steps, ordered by construction: decals are split into chunks of
- * 64; one work-item per (coarse tile, chunk) sets a bit per overlapping decal; per coarse tile the
- * chunk popcounts are prefix-summed; then each (coarse tile, chunk) writes its set bits in order. */
-inline int dc_decal_chunks(__constant const DcFrame* f) { return (f->decal_count + 63) / 64; }
+ * DC_DECALS_PER_MASK_WORD; one work-item per (coarse tile, chunk) sets a bit per overlapping
+ * decal; per coarse tile the chunk popcounts are prefix-summed; then each (coarse tile, chunk)
+ * writes its set bits in order. */
+inline int dc_decal_chunks(__constant const DcFrame* f) {
+    return (f->decal_count + DC_DECALS_PER_MASK_WORD - 1) / DC_DECALS_PER_MASK_WORD;
+}
 
 __kernel void dc_coarse_mask(__constant const DcFrame* frame, __global const DcDecalBounds* bounds,
                              __global const float2* coarse_depth, __global ulong* masks) {
@@ -127,12 +136,13 @@ __kernel void dc_coarse_mask(__constant const DcFrame* frame, __global const DcD
     if (item >= cx_count * dc_coarse_tiles_y(frame) * chunks) return;
     const int c = item / chunks, k = item % chunks;
     const float2 range = coarse_depth[c];
-    const int tx0 = (c % cx_count) * DC_COARSE, ty0 = (c / cx_count) * DC_COARSE;
+    const int tx0 = (c % cx_count) * DC_COARSE_TILES, ty0 = (c / cx_count) * DC_COARSE_TILES;
     ulong bits = 0;
     if (range.x <= range.y) {
-        const int first = k * 64, last = min(frame->decal_count, first + 64);
+        const int first = k * DC_DECALS_PER_MASK_WORD;
+        const int last = min(frame->decal_count, first + DC_DECALS_PER_MASK_WORD);
         for (int d = first; d < last; ++d)
-            if (dc_overlaps(bounds[d], tx0, ty0, tx0 + DC_COARSE - 1, ty0 + DC_COARSE - 1, range))
+            if (dc_overlaps(bounds[d], tx0, ty0, tx0 + DC_COARSE_TILES - 1, ty0 + DC_COARSE_TILES - 1, range))
                 bits |= (ulong)1 << (d - first);
     }
     masks[item] = bits;
@@ -165,7 +175,7 @@ __kernel void dc_coarse_fill(__constant const DcFrame* frame, __global const ulo
     int next = offsets[c] + chunk_starts[item];
     while (bits != 0 && next < capacity) {
         const int bit = (int)(63 - clz(bits & (~bits + 1))); /* lowest set bit */
-        lists[next++] = k * 64 + bit;
+        lists[next++] = k * DC_DECALS_PER_MASK_WORD + bit;
         bits &= bits - 1;
     }
 }
@@ -178,7 +188,7 @@ inline int dc_tile_bin(__constant const DcFrame* frame, __global const DcDecalBo
     const float2 range = tile_depth[tile];
     if (!(range.x <= range.y)) return 0;
     const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x;
-    const int c = (ty / DC_COARSE) * dc_coarse_tiles_x(frame) + tx / DC_COARSE;
+    const int c = (ty / DC_COARSE_TILES) * dc_coarse_tiles_x(frame) + tx / DC_COARSE_TILES;
     int n = 0;
     /* an overflowed coarse list is read only up to its capacity: the frame runs again anyway */
     const int end = min(coarse_offsets[c + 1], coarse_capacity);

@@ -3,6 +3,10 @@
 #ifndef DECALCOMP_DECAL_KINDS_H
 #define DECALCOMP_DECAL_KINDS_H
 
+#include "shared_types.h"
+#include "matrix.h"
+#include "texture_sample.h"
+
 /* For the per-decal functions: NVIDIA's compiler otherwise keeps them out of line and passes the
  * structs through stack memory for every pixel-decal pair (3.7x slower unbinned shading at
  * 1080p, docs/benchmarks.md). */

@@ -3,6 +3,9 @@
 #ifndef DECALCOMP_MATERIALS_H
 #define DECALCOMP_MATERIALS_H
 
+#include "shared_types.h"
+#include "decal_kinds.h"
+
 /* A pixel's material while decals are applied; the normal is in camera space. */
 typedef struct {
     float3 albedo, normal, emission;

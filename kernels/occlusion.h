@@ -5,6 +5,10 @@
 #ifndef DECALCOMP_OCCLUSION_H
 #define DECALCOMP_OCCLUSION_H
 
+#include "shared_types.h"
+#include "decal_kinds.h"
+#include "texture_sample.h"
+
 /* Slopes are clamped to this tangent: steeper surfaces get this bias (grazing beyond ~86 deg). */
 #define DC_OCCLUSION_MAX_SLOPE 16.0f
 

@@ -3,6 +3,9 @@
 #ifndef DECALCOMP_RECONSTRUCT_H
 #define DECALCOMP_RECONSTRUCT_H
 
+#include "shared_types.h"
+#include "matrix.h"
+
 /* NDC of the centre of data-window pixel (x, y); row 0 is the top row. */
 inline float2 dc_pixel_ndc(__constant const DcFrame* f, int x, int y) {
     return (float2)(2.0f * ((float)(x + f->origin_x) + 0.5f) / (float)f->display_width - 1.0f,

@@ -4,8 +4,6 @@
  * then each work-item writes its run's offsets. Lists are at most a few hundred thousand tiles. */
 #include "shared_types.h"
 
-#define DC_SCAN_GROUP 256
-
 __kernel __attribute__((reqd_work_group_size(DC_SCAN_GROUP, 1, 1)))
 void dc_scan(__global const int* counts, int n, __global int* offsets) {
     __local int sums[DC_SCAN_GROUP];

@@ -4,7 +4,13 @@
 #ifndef DECALCOMP_SHARED_TYPES_H
 #define DECALCOMP_SHARED_TYPES_H
 
-#ifdef __OPENCL_VERSION__
+/* __OPENCL_VERSION__ comes from the device's compiler, __OPENCL_C_VERSION__ from any OpenCL C
+ * 1.2 compiler (clang's build-time check defines only the latter). */
+#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
+#define DC_OPENCL_C 1
+#endif
+
+#ifdef DC_OPENCL_C
 #define DC_INT int
 #define DC_FLOAT float
 #else
@@ -27,6 +33,14 @@ namespace decalcomp::cl_types {
 
 /* Screen tiles are DC_TILE_SIZE square; the tile kernel runs one work-group per tile. */
 #define DC_TILE_SIZE 16
+/* Binning's first level works on coarse tiles of DC_COARSE_TILES x DC_COARSE_TILES tiles. */
+#define DC_COARSE_TILES 4
+/* The coarse binning marks decals in 64-bit mask words (ulong / cl_ulong), one bit per decal:
+ * a frame's decals are split into (decal_count + DC_DECALS_PER_MASK_WORD - 1) /
+ * DC_DECALS_PER_MASK_WORD chunks. */
+#define DC_DECALS_PER_MASK_WORD 64
+/* The prefix sums of tile counts run in one work-group of DC_SCAN_GROUP work-items (scan.cl). */
+#define DC_SCAN_GROUP 256
 
 #define DC_FILTER_NEAREST 0
 #define DC_FILTER_LINEAR 1
@@ -107,8 +121,8 @@ typedef struct {
     /* The rest of the texture set (albedo is `texture`): indices into the table, -1 = none. */
     DC_INT normal_texture, orm_texture, emission_texture;
     /* Per target (DC_TARGET_x): factor (0 = the decal leaves it alone) and blend op. */
-    DC_FLOAT factor[6];
-    DC_INT op[6];
+    DC_FLOAT factor[DC_TARGETS];
+    DC_INT op[DC_TARGETS];
     /* Constants used where the set has no texture for a target; value_mask bit per target. */
     DC_FLOAT albedo_value[3], emission_value[3];
     DC_FLOAT roughness_value, metallic_value, ao_value;
@@ -138,7 +152,7 @@ typedef struct {
     DC_INT pad0, pad1;
 } DcDecalBounds;
 
-#ifndef __OPENCL_VERSION__
+#ifndef DC_OPENCL_C
 }  // namespace decalcomp::cl_types
 #endif
 

@@ -5,6 +5,8 @@
 #ifndef DECALCOMP_TEXTURE_SAMPLE_H
 #define DECALCOMP_TEXTURE_SAMPLE_H
 
+#include "shared_types.h"
+
 inline float4 dc_texel(__global const float4* texels, DcTexture t, int i, int j, int slice) {
     i = clamp(i, 0, t.width - 1);
     j = clamp(j, 0, t.height - 1);

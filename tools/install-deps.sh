@@ -3,7 +3,7 @@
 # Idempotent and non-interactive; skips apt-get entirely when everything is present.
 set -eu
 PACKAGES="build-essential cmake pkg-config
-  pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo
+  pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo clang
   libopenexr-dev libopenimageio-dev openimageio-tools libglm-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev
   slurm-wlm slurmctld slurmd slurm-client munge"

@@ -53,8 +53,10 @@ private:
     bool profiling_ = true;
 };
 
-// The program source handed to the OpenCL compiler: shared headers then kernels, in order.
-// DECALCOMP_KERNEL_DIR in the environment makes it read kernels/ from disk instead (iteration).
+// The program source handed to the OpenCL compiler: every kernels/*.cl with its includes resolved
+// (each header once, `#line` markers naming kernels/ files), assembled at build time.
+// DECALCOMP_KERNEL_DIR in the environment makes it read and assemble that directory instead
+// (iteration); a missing include then throws Error(Device) naming file and line.
 std::string programSource();
 // Options used for every build.
 std::string buildOptions();

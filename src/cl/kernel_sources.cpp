@@ -1,7 +1,14 @@
-// Assembles the OpenCL program from the kernel files embedded at build time.
+// The OpenCL program: the copy assembled and embedded at build time (cmake/AssembleKernels.cmake),
+// or kernels/ read from disk and assembled by the same rules (DECALCOMP_KERNEL_DIR).
+#include "cl/kernel_sources.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
-#include <sstream>
+#include <set>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -12,50 +19,75 @@
 
 namespace decalcomp {
 namespace embedded {
-extern const std::vector<std::pair<std::string_view, std::string_view>> kKernelFiles;
+extern const std::string_view kProgramSource;
 }
 
 namespace {
 
-// Headers first, in dependency order; every .cl after them. The OpenCL compiler sees one
-// translation unit, so local #include lines are dropped.
-constexpr std::string_view kOrder[] = {"shared_types.h", "matrix.h", "reconstruct.h", "texture_sample.h",
-                                       "decal_kinds.h", "materials.h", "occlusion.h"};
+constexpr std::string_view kInclude = "#include \"";
 
-std::string stripLocalIncludes(std::string_view text) {
-    std::string out;
-    std::istringstream in{std::string(text)};
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.rfind("#include \"", 0) == 0) line = "// " + line;
-        out += line;
-        out += '\n';
+class Assembler {
+public:
+    Assembler(std::filesystem::path dir, std::string line_prefix)
+        : dir_(std::move(dir)), prefix_(std::move(line_prefix)) {}
+
+    // Appends `name` unless the program has it already.
+    void add(const std::string& name, const std::string& included_from) {
+        if (included_.insert(name).second) expand(name, included_from);
     }
-    return out;
-}
+    const std::string& text() const { return out_; }
 
-std::string readFromDisk(const std::string& dir, std::string_view name) {
-    std::ifstream in(dir + "/" + std::string(name));
-    if (!in) throw deviceError("DECALCOMP_KERNEL_DIR: cannot read " + dir + "/" + std::string(name));
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+private:
+    void expand(const std::string& name, const std::string& included_from) {
+        std::ifstream in(dir_ / name, std::ios::binary);
+        if (!in)
+            throw deviceError(
+                fmt::format("{}: #include \"{}\": no such file in {}", included_from, name, dir_.string()));
+        const std::string display = prefix_ + name;
+        out_ += fmt::format("#line 1 \"{}\"\n", display);
+        std::string line;
+        for (int number = 1; std::getline(in, line); ++number) {
+            if (!line.starts_with(kInclude)) {
+                out_ += line + "\n";
+                continue;
+            }
+            const std::size_t end = line.find('"', kInclude.size());
+            if (end == std::string::npos || end == kInclude.size())
+                throw deviceError(fmt::format("{}:{}: malformed #include", display, number));
+            const std::string header = line.substr(kInclude.size(), end - kInclude.size());
+            if (included_.contains(header)) {
+                out_ += "// " + line + " (included above)\n";
+                continue;
+            }
+            add(header, fmt::format("{}:{}", display, number));
+            out_ += fmt::format("#line {} \"{}\"\n", number + 1, display);
+        }
+    }
+
+    std::filesystem::path dir_;
+    std::string prefix_;
+    std::set<std::string> included_;
+    std::string out_;
+};
 
 }  // namespace
 
+std::string assembleProgram(const std::string& dir, const std::string& line_prefix) {
+    std::vector<std::string> sources;
+    std::error_code error;
+    for (const auto& entry : std::filesystem::directory_iterator(dir, error))
+        if (entry.path().extension() == ".cl") sources.push_back(entry.path().filename().string());
+    if (sources.empty()) throw deviceError(fmt::format("{}: no *.cl files", dir));
+    std::sort(sources.begin(), sources.end());
+    Assembler assembler(dir, line_prefix);
+    for (const std::string& name : sources) assembler.add(name, dir);
+    return assembler.text();
+}
+
 std::string programSource() {
-    const char* dir = std::getenv("DECALCOMP_KERNEL_DIR");
-    auto text = [&](std::string_view name, std::string_view embedded_text) {
-        return dir ? readFromDisk(dir, name) : std::string(embedded_text);
-    };
-    std::string source;
-    for (std::string_view header : kOrder)
-        for (const auto& [name, content] : embedded::kKernelFiles)
-            if (name == header) source += "// ---- " + std::string(name) + "\n" + stripLocalIncludes(text(name, content));
-    for (const auto& [name, content] : embedded::kKernelFiles)
-        if (name.ends_with(".cl")) source += "// ---- " + std::string(name) + "\n" + stripLocalIncludes(text(name, content));
-    return source;
+    if (const char* dir = std::getenv("DECALCOMP_KERNEL_DIR"))
+        return assembleProgram(dir, (std::filesystem::path(dir) / "").string());
+    return std::string(embedded::kProgramSource);
 }
 
 // DECALCOMP_CL_OPTIONS appends options (e.g. "-cl-nv-verbose" to see register use on NVIDIA).

@@ -1,35 +1,146 @@
-// The structs in kernels/shared_types.h must have the same layout in C++ and OpenCL C:
-// only 4-byte members, no padding, sizes fixed here.
-#include <cstddef>
-
+// The structs in kernels/shared_types.h must have the same layout in C++ and OpenCL C (only
+// 4-byte members, no padding), and every host enum the values of its DC_* codes. This file is
+// compiled as C++ into the library and as OpenCL C by the build-time kernel check
+// (CMakeLists.txt, clang -x cl), so the offsets below hold for both compilers.
 #include "shared_types.h"
 
+#ifdef DC_OPENCL_C
+#define DC_CHECK(condition) _Static_assert(condition, #condition)
+#define DC_OFFSET(type, member) __builtin_offsetof(type, member)
+#else
+#include <CL/cl_platform.h>
+
+#include <cstddef>
+
+#include "decalcomp/decal.hpp"
+#include "decalcomp/gbuffer.hpp"
+#define DC_CHECK(condition) static_assert(condition, #condition)
+#define DC_OFFSET(type, member) offsetof(type, member)
 namespace decalcomp::cl_types {
+#endif
 
-static_assert(sizeof(DcFrame) == 272, "DcFrame layout changed: update the kernels too");
-static_assert(offsetof(DcFrame, attributes) == 256);
-static_assert(offsetof(DcFrame, projection) == 64);
-static_assert(offsetof(DcFrame, world_to_camera) == 128);
-static_assert(offsetof(DcFrame, width) == 192);
-static_assert(offsetof(DcFrame, far_plane) == 224);
-static_assert(offsetof(DcFrame, has_depth) == 244);
-static_assert(offsetof(DcFrame, has_normal) == 248);
-static_assert(offsetof(DcFrame, reconstruct_normals) == 252);
-static_assert(sizeof(DcDecal) == 288);
-static_assert(offsetof(DcDecal, normal_texture) == 164);
-static_assert(offsetof(DcDecal, factor) == 176);
-static_assert(offsetof(DcDecal, op) == 200);
-static_assert(offsetof(DcDecal, value_mask) == 260);
-static_assert(offsetof(DcDecal, occlusion_map) == 272);
-static_assert(offsetof(DcDecal, occlusion_bias) == 284);
-static_assert(offsetof(DcDecal, facing_axis) == 132);
-static_assert(offsetof(DcDecal, distance_fade) == 156);
-static_assert(offsetof(DcDecal, mask) == 112);
-static_assert(offsetof(DcDecal, local_to_camera) == 48);
-static_assert(offsetof(DcDecal, kind) == 96);
-static_assert(offsetof(DcDecal, opacity) == 108);
-static_assert(sizeof(DcTexture) == 32);
-static_assert(sizeof(DcDecalBounds) == 32);
-static_assert(offsetof(DcDecalBounds, depth_min) == 16);
+DC_CHECK(sizeof(DC_INT) == 4 && sizeof(DC_FLOAT) == 4);
 
+DC_CHECK(sizeof(DcFrame) == 272);
+DC_CHECK(DC_OFFSET(DcFrame, inv_projection) == 0);
+DC_CHECK(DC_OFFSET(DcFrame, projection) == 64);
+DC_CHECK(DC_OFFSET(DcFrame, world_to_camera) == 128);
+DC_CHECK(DC_OFFSET(DcFrame, width) == 192);
+DC_CHECK(DC_OFFSET(DcFrame, height) == 196);
+DC_CHECK(DC_OFFSET(DcFrame, origin_x) == 200);
+DC_CHECK(DC_OFFSET(DcFrame, origin_y) == 204);
+DC_CHECK(DC_OFFSET(DcFrame, display_width) == 208);
+DC_CHECK(DC_OFFSET(DcFrame, display_height) == 212);
+DC_CHECK(DC_OFFSET(DcFrame, depth_convention) == 216);
+DC_CHECK(DC_OFFSET(DcFrame, reversed_z) == 220);
+DC_CHECK(DC_OFFSET(DcFrame, far_plane) == 224);
+DC_CHECK(DC_OFFSET(DcFrame, orthographic) == 228);
+DC_CHECK(DC_OFFSET(DcFrame, tiles_x) == 232);
+DC_CHECK(DC_OFFSET(DcFrame, tiles_y) == 236);
+DC_CHECK(DC_OFFSET(DcFrame, decal_count) == 240);
+DC_CHECK(DC_OFFSET(DcFrame, has_depth) == 244);
+DC_CHECK(DC_OFFSET(DcFrame, has_normal) == 248);
+DC_CHECK(DC_OFFSET(DcFrame, reconstruct_normals) == 252);
+DC_CHECK(DC_OFFSET(DcFrame, attributes) == 256);
+DC_CHECK(DC_OFFSET(DcFrame, needs_footprint) == 260);
+DC_CHECK(DC_OFFSET(DcFrame, pad0) == 264);
+DC_CHECK(DC_OFFSET(DcFrame, pad1) == 268);
+
+DC_CHECK(sizeof(DcDecal) == 288);
+DC_CHECK(DC_OFFSET(DcDecal, camera_to_local) == 0);
+DC_CHECK(DC_OFFSET(DcDecal, local_to_camera) == 48);
+DC_CHECK(DC_OFFSET(DcDecal, kind) == 96);
+DC_CHECK(DC_OFFSET(DcDecal, filter) == 100);
+DC_CHECK(DC_OFFSET(DcDecal, texture) == 104);
+DC_CHECK(DC_OFFSET(DcDecal, opacity) == 108);
+DC_CHECK(DC_OFFSET(DcDecal, mask) == 112);
+DC_CHECK(DC_OFFSET(DcDecal, tan_half_fov_y) == 116);
+DC_CHECK(DC_OFFSET(DcDecal, aspect) == 120);
+DC_CHECK(DC_OFFSET(DcDecal, near_plane) == 124);
+DC_CHECK(DC_OFFSET(DcDecal, far_plane) == 128);
+DC_CHECK(DC_OFFSET(DcDecal, facing_axis) == 132);
+DC_CHECK(DC_OFFSET(DcDecal, angle_fade) == 144);
+DC_CHECK(DC_OFFSET(DcDecal, axis_fade) == 152);
+DC_CHECK(DC_OFFSET(DcDecal, distance_fade) == 156);
+DC_CHECK(DC_OFFSET(DcDecal, normal_texture) == 164);
+DC_CHECK(DC_OFFSET(DcDecal, orm_texture) == 168);
+DC_CHECK(DC_OFFSET(DcDecal, emission_texture) == 172);
+DC_CHECK(DC_OFFSET(DcDecal, factor) == 176);
+DC_CHECK(DC_OFFSET(DcDecal, op) == 200);
+DC_CHECK(DC_OFFSET(DcDecal, albedo_value) == 224);
+DC_CHECK(DC_OFFSET(DcDecal, emission_value) == 236);
+DC_CHECK(DC_OFFSET(DcDecal, roughness_value) == 248);
+DC_CHECK(DC_OFFSET(DcDecal, metallic_value) == 252);
+DC_CHECK(DC_OFFSET(DcDecal, ao_value) == 256);
+DC_CHECK(DC_OFFSET(DcDecal, value_mask) == 260);
+DC_CHECK(DC_OFFSET(DcDecal, normal_blend) == 264);
+DC_CHECK(DC_OFFSET(DcDecal, normal_strength) == 268);
+DC_CHECK(DC_OFFSET(DcDecal, occlusion_map) == 272);
+DC_CHECK(DC_OFFSET(DcDecal, occlusion_width) == 276);
+DC_CHECK(DC_OFFSET(DcDecal, occlusion_height) == 280);
+DC_CHECK(DC_OFFSET(DcDecal, occlusion_bias) == 284);
+
+DC_CHECK(sizeof(DcTexture) == 32);
+DC_CHECK(DC_OFFSET(DcTexture, offset) == 0);
+DC_CHECK(DC_OFFSET(DcTexture, width) == 4);
+DC_CHECK(DC_OFFSET(DcTexture, height) == 8);
+DC_CHECK(DC_OFFSET(DcTexture, depth) == 12);
+DC_CHECK(DC_OFFSET(DcTexture, levels) == 16);
+DC_CHECK(DC_OFFSET(DcTexture, pad0) == 20);
+DC_CHECK(DC_OFFSET(DcTexture, pad1) == 24);
+DC_CHECK(DC_OFFSET(DcTexture, pad2) == 28);
+
+DC_CHECK(sizeof(DcDecalBounds) == 32);
+DC_CHECK(DC_OFFSET(DcDecalBounds, tile_x0) == 0);
+DC_CHECK(DC_OFFSET(DcDecalBounds, tile_y0) == 4);
+DC_CHECK(DC_OFFSET(DcDecalBounds, tile_x1) == 8);
+DC_CHECK(DC_OFFSET(DcDecalBounds, tile_y1) == 12);
+DC_CHECK(DC_OFFSET(DcDecalBounds, depth_min) == 16);
+DC_CHECK(DC_OFFSET(DcDecalBounds, depth_max) == 20);
+DC_CHECK(DC_OFFSET(DcDecalBounds, pad0) == 24);
+DC_CHECK(DC_OFFSET(DcDecalBounds, pad1) == 28);
+
+#ifndef DC_OPENCL_C
 }  // namespace decalcomp::cl_types
+
+namespace decalcomp {
+
+// The coarse binning's mask words are cl_ulong on the host and ulong in the kernels.
+DC_CHECK(DC_DECALS_PER_MASK_WORD == 8 * sizeof(cl_ulong));
+
+DC_CHECK(int(DepthConvention::Planar) == DC_DEPTH_PLANAR);
+DC_CHECK(int(DepthConvention::Radial) == DC_DEPTH_RADIAL);
+DC_CHECK(int(DepthConvention::Ndc) == DC_DEPTH_NDC);
+DC_CHECK(int(DepthConvention::Position) == DC_DEPTH_POSITION);
+
+DC_CHECK(int(DecalKind::Box) == DC_KIND_BOX);
+DC_CHECK(int(DecalKind::Volume) == DC_KIND_VOLUME);
+DC_CHECK(int(DecalKind::Frustum) == DC_KIND_FRUSTUM);
+DC_CHECK(int(DecalKind::Cube) == DC_KIND_CUBE);
+
+DC_CHECK(int(TextureFilter::Nearest) == DC_FILTER_NEAREST);
+DC_CHECK(int(TextureFilter::Linear) == DC_FILTER_LINEAR);
+DC_CHECK(int(TextureFilter::Mip) == DC_FILTER_MIP);
+
+DC_CHECK(int(DecalTarget::Albedo) == DC_TARGET_ALBEDO);
+DC_CHECK(int(DecalTarget::Normal) == DC_TARGET_NORMAL);
+DC_CHECK(int(DecalTarget::Roughness) == DC_TARGET_ROUGHNESS);
+DC_CHECK(int(DecalTarget::Metallic) == DC_TARGET_METALLIC);
+DC_CHECK(int(DecalTarget::AmbientOcclusion) == DC_TARGET_AO);
+DC_CHECK(int(DecalTarget::Emission) == DC_TARGET_EMISSION);
+DC_CHECK(kDecalTargets == DC_TARGETS);
+DC_CHECK(sizeof(cl_types::DcDecal::factor) == DC_TARGETS * sizeof(float));
+DC_CHECK(sizeof(cl_types::DcDecal::op) == DC_TARGETS * sizeof(std::int32_t));
+
+DC_CHECK(int(BlendOp::Over) == DC_OP_OVER);
+DC_CHECK(int(BlendOp::Multiply) == DC_OP_MULTIPLY);
+DC_CHECK(int(BlendOp::Add) == DC_OP_ADD);
+DC_CHECK(int(BlendOp::Replace) == DC_OP_REPLACE);
+
+DC_CHECK(int(NormalBlend::Reoriented) == DC_NORMAL_RNM);
+DC_CHECK(int(NormalBlend::Udn) == DC_NORMAL_UDN);
+DC_CHECK(int(NormalBlend::Whiteout) == DC_NORMAL_WHITEOUT);
+DC_CHECK(int(NormalBlend::Replace) == DC_NORMAL_REPLACE);
+
+}  // namespace decalcomp
+#endif

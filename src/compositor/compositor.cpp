@@ -18,9 +18,7 @@ namespace decalcomp {
 
 namespace {
 
-constexpr int kBinGroupSize = 64;  // work-items per group in the binning kernels
-constexpr int kCoarse = 4;         // DC_COARSE in kernels/binning.cl: tiles per coarse tile side
-constexpr int kScanGroup = 256;    // DC_SCAN_GROUP in kernels/scan.cl
+constexpr int kBinGroupSize = 64;  // work-items per group in the binning kernels (any size works)
 
 std::size_t roundUp(std::size_t n, std::size_t multiple) { return (n + multiple - 1) / multiple * multiple; }
 
@@ -211,9 +209,9 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     const std::size_t pixels = frame.pixelCount();
     const std::size_t decals = s.decal_params.size();
     const std::size_t tiles = std::size_t(params.tiles_x) * std::size_t(params.tiles_y);
-    const std::size_t coarse = std::size_t((params.tiles_x + kCoarse - 1) / kCoarse) *
-                               std::size_t((params.tiles_y + kCoarse - 1) / kCoarse);
-    const std::size_t chunks = (decals + 63) / 64;  // decals per mask word
+    const std::size_t coarse = std::size_t((params.tiles_x + DC_COARSE_TILES - 1) / DC_COARSE_TILES) *
+                               std::size_t((params.tiles_y + DC_COARSE_TILES - 1) / DC_COARSE_TILES);
+    const std::size_t chunks = (decals + DC_DECALS_PER_MASK_WORD - 1) / DC_DECALS_PER_MASK_WORD;
     const bool binned = options.binned;
     const bool uses_position = frame.depth_convention == DepthConvention::Position;
     stats.decals = int(decals);
@@ -287,7 +285,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 // Level 1: coarse tiles against every decal, 64 decals per mask word.
                 const cl::NDRange coarse_range(roundUp(coarse, kBinGroupSize)),
                     pair_range(roundUp(coarse * chunks, kBinGroupSize));
-                const cl::NDRange scan_range(kScanGroup);
+                const cl::NDRange scan_range(DC_SCAN_GROUP);
                 e_cdepth = k.coarse_depth(cl::EnqueueArgs(queue, coarse_range), s.frame_buffer, s.tile_depth,
                                           s.coarse_depth);
                 e_cmask = k.coarse_mask(cl::EnqueueArgs(queue, pair_range), s.frame_buffer, s.bounds, s.coarse_depth,

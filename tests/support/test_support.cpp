@@ -59,6 +59,17 @@ CommandResult runGenerator(const std::string& arguments, const std::string& outp
                       (camera.empty() ? "" : " --camera " + shellQuote(camera)));
 }
 
+std::string errorMessage(ErrorKind kind, const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), kind) << e.what();
+        return e.what();
+    }
+    ADD_FAILURE() << "expected an error";
+    return "";
+}
+
 void expectSceneError(const std::string& scene_path, const std::string& expected) {
     try {
         loadScene(scene_path);

@@ -1,9 +1,11 @@
 #pragma once
 // Small helpers shared by the tests: scratch folders, running the CLI, data paths.
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "decalcomp/error.hpp"
 #include "decalcomp/exr_io.hpp"
 
 namespace decalcomp::test {
@@ -33,6 +35,9 @@ CommandResult runCommand(const std::string& command_line);
 // Runs the decalcomp CLI with the given arguments (already shell-quoted where needed).
 CommandResult runCli(const std::string& arguments);
 std::string shellQuote(const std::string& s);
+// The message of the Error that `f` throws, expecting it of `kind`; a test failure (and "") when
+// it throws none.
+std::string errorMessage(ErrorKind kind, const std::function<void()>& f);
 // Loads the scene file expecting an input error: one line that starts with the file's path and
 // contains `expected` (a JSON path and what is wrong there).
 void expectSceneError(const std::string& scene_path, const std::string& expected);

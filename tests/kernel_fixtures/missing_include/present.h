@@ -1,0 +1,1 @@
+/* Included by broken.cl before the include that is missing. */
