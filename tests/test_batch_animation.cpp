@@ -183,7 +183,7 @@ const AnimationErrorCase kAnimationErrors[] = {
     {R"("keyframes": [{"frame": 1, "scale": 1}, {"frame": 2, "scale": [-1, 1, 1]}])",
      "decals[0].keyframes[1]: mirrored where the previous keyframe is not"},
     {R"("keyframes": [{"frame": 1, "scale": 1}], "keyframe_interpolation": "cubic")",
-     "decals[0].keyframe_interpolation: expected \"linear\" or \"step\""},
+     "decals[0].keyframe_interpolation: expected one of: linear, step (got 'cubic')"},
     {R"("translate": [0,0,0], "keyframe_interpolation": "step")", "decals[0].keyframe_interpolation: no 'keyframes'"},
     {R"("translate": [0,0,0], "keyframe": [])", "decals[0].keyframe: unknown key (did you mean 'keyframes'?)"},
 };

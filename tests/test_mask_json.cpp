@@ -115,7 +115,7 @@ INSTANTIATE_TEST_SUITE_P(
         MaskErrorCase{"IdsEmpty", R"({"ids": []})", "decals[0].mask.ids: expected at least one id"},
         MaskErrorCase{"IdNotInteger", R"({"ids": [3, "x"]})", "decals[0].mask.ids[1]: expected an integer"},
         MaskErrorCase{"IdFraction", R"({"exclude_ids": [1.5]})", "decals[0].mask.exclude_ids[0]: expected an integer"},
-        MaskErrorCase{"IdTooLarge", R"({"ids": [3000000000]})", "decals[0].mask.ids[0]: id out of range"},
+        MaskErrorCase{"IdTooLarge", R"({"ids": [3000000000]})", "decals[0].mask.ids[0]: expected an integer in [-2147483648, 2147483647]"},
         MaskErrorCase{"IdBoolean", R"({"ids": [true]})", "decals[0].mask.ids[0]: expected an integer"},
         MaskErrorCase{"CryptoNotObject", R"({"cryptomatte": "Wall"})", "decals[0].mask.cryptomatte: expected an object"},
         MaskErrorCase{"CryptoNoNames", R"({"cryptomatte": {"layer": "CryptoObject"}})",
@@ -127,7 +127,7 @@ INSTANTIATE_TEST_SUITE_P(
         MaskErrorCase{"CryptoNameEmpty", R"({"cryptomatte": {"names": [""]}})",
                       "decals[0].mask.cryptomatte.names[0]: expected a non-empty name"},
         MaskErrorCase{"CryptoLayerEmpty", R"({"cryptomatte": {"layer": "", "names": ["a"]}})",
-                      "decals[0].mask.cryptomatte.layer: expected a layer name"},
+                      "decals[0].mask.cryptomatte.layer: expected a non-empty layer name"},
         MaskErrorCase{"CryptoUnknownKey", R"({"cryptomatte": {"name": ["a"]}})",
                       "decals[0].mask.cryptomatte.name: unknown key"}),
     [](const ::testing::TestParamInfo<MaskErrorCase>& param_info) { return std::string(param_info.param.label); });

@@ -494,7 +494,7 @@ TEST(MaskErrors, ManifestThatIsNotJsonNamesTheField) {
     expectMaskError(path, {crypto({"A"})}, {path, "cryptomatte/0a1b2c3/manifest: not valid JSON"});
     const std::string not_hex = writeSynthetic(dir.file("hex.exr"), twoRankLayer("CryptoObject"),
                                                layerMetadata("CryptoObject", R"({"A": "12x4"})"));
-    expectMaskError(not_hex, {crypto({"A"})}, {not_hex, "cryptomatte/0a1b2c3/manifest", "\"A\": expected a hash"});
+    expectMaskError(not_hex, {crypto({"A"})}, {not_hex, "cryptomatte/0a1b2c3/manifest: A: expected a hash"});
 }
 
 TEST(MaskErrors, SidecarManifestProblemsNameTheSidecar) {

@@ -249,21 +249,21 @@ TEST(Profiles, BadProfileFilesNameTheFieldAndFile) {
     };
     const std::vector<Bad> cases = {
         {"{\"name\": \"x\", ", "not valid JSON"},
-        {R"({"attributes": {"depth": ["Z"]}})", "name: missing"},
+        {R"({"attributes": {"depth": ["Z"]}})", ": missing 'name'"},
         {R"({"name": "auto", "attributes": {"depth": ["Z"]}})", "name: a profile needs a name other than \"auto\""},
         {R"({"name": "x", "attributes": {"albedo": ["a.{R,G}"]}})", "attributes.albedo[0]: expected 3 channel pattern(s), got 2"},
-        {R"({"name": "x", "attributes": {"colour": ["a.{R,G,B}"]}})", "attributes.colour: unknown attribute"},
+        {R"({"name": "x", "attributes": {"colour": ["a.{R,G,B}"]}})", "attributes.colour: unknown key"},
         {R"({"name": "x", "attributes": {"depth": ["{pass}.Z"]}})", "unknown placeholder '{pass}'"},
         {R"({"name": "x", "attributes": {"depth": ["{layer}.{layer}"]}})", "{layer} may appear once"},
         {R"({"name": "x", "attributes": {"depth": [7]}})", "attributes.depth[0]: expected a channel pattern"},
-        {R"({"name": "x", "attributes": {"depth": ["Z"]}, "depth": "planar"})", "depth: unknown field"},
+        {R"({"name": "x", "attributes": {"depth": ["Z"]}, "depth": "planar"})", "depth: unknown key"},
         {R"({"name": "x", "attributes": {"depth": ["Z"]}, "depth_convention": "linear"})",
-         "depth_convention: expected planar, radial, ndc or position"},
+         "depth_convention: expected one of: planar, radial, ndc, position (got 'linear')"},
         {R"({"name": "x", "attributes": {"depth": ["Z"]}, "detect": [{"value": "a"}]})",
          "detect[0]: expected exactly one of \"header\" and \"channel\""},
         {R"({"name": "x", "attributes": {"depth": [{"channels": "Z", "space": "camera"}]}})",
          "attributes.depth[0].space: only normal spellings have a space"},
-        {R"([{"name": "ok", "attributes": {"depth": ["Z"]}}, {"name": "x"}])", "[1].attributes: missing or empty"},
+        {R"([{"name": "ok", "attributes": {"depth": ["Z"]}}, {"name": "x"}])", "[1]: missing 'attributes'"},
     };
     for (std::size_t i = 0; i < cases.size(); ++i) {
         const std::string file = writeFile(dir, "bad" + std::to_string(i) + ".json", cases[i].text);

@@ -2,13 +2,11 @@
 // camera per frame.
 #include <fmt/format.h>
 
-#include <cmath>
-#include <fstream>
-#include <nlohmann/json.hpp>
-#include <sstream>
+#include <cctype>
 
 #include "decalcomp/frame_cameras.hpp"
 #include "decalcomp/error.hpp"
+#include "decalcomp/json_fields.hpp"
 
 namespace decalcomp {
 
@@ -16,104 +14,56 @@ namespace {
 
 using json = nlohmann::json;
 
-class PerFrameParser {
-public:
-    explicit PerFrameParser(std::string file) : file_(std::move(file)) {}
+Camera frameCamera(const JsonField& entry, const std::optional<glm::dmat4>& default_projection, int frame) {
+    entry.requireObject("an object with world_to_camera (and projection)");
+    Camera c;
+    c.world_to_camera = entry.required("world_to_camera").invertibleMatrix4();
+    if (const auto projection = entry.optional("projection")) c.projection = projection->invertibleMatrix4();
+    else if (default_projection) c.projection = *default_projection;
+    else entry.fail("missing 'projection' (and no top-level 'projection' for every frame)");
+    c.source = fmt::format("{} (frame {})", entry.file(), frame);
+    return c;
+}
 
-    [[noreturn]] void fail(const std::string& at, const std::string& what) const {
-        throw inputError(at.empty() ? fmt::format("{}: {}", file_, what) : fmt::format("{}: {}: {}", file_, at, what));
+// A frame number as a key of "frames" ("12") or as the value of "frame" (12).
+int frameNumber(const JsonField& at, const std::string& key) {
+    std::size_t used = 0;
+    try {
+        const int f = std::stoi(key, &used);
+        if (used == key.size() && !key.empty() && !std::isspace(static_cast<unsigned char>(key[0]))) return f;
+    } catch (const std::exception&) {
     }
-
-    glm::dmat4 matrix(const json& v, const std::string& at) const {
-        const char* shape = "expected 4 rows of 4 numbers (row-major)";
-        if (!v.is_array() || v.size() != 4) fail(at, shape);
-        double rows[4][4];
-        for (std::size_t r = 0; r < 4; ++r) {
-            if (!v[r].is_array() || v[r].size() != 4) fail(at, shape);
-            for (std::size_t c = 0; c < 4; ++c) {
-                if (!v[r][c].is_number() || !std::isfinite(v[r][c].get<double>()))
-                    fail(fmt::format("{}[{}][{}]", at, r, c), "expected a finite number");
-                rows[r][c] = v[r][c].get<double>();
-            }
-        }
-        const glm::dmat4 m = matrixFromRows(rows);
-        const double det = glm::determinant(m);
-        if (!std::isfinite(det) || std::abs(det) < 1e-12) fail(at, "matrix is not invertible");
-        return m;
-    }
-
-    Camera camera(const json& entry, const std::string& at, const std::optional<glm::dmat4>& default_projection,
-                  int frame) const {
-        if (!entry.is_object()) fail(at, "expected an object with world_to_camera (and projection)");
-        Camera c;
-        if (!entry.contains("world_to_camera")) fail(at, "missing 'world_to_camera'");
-        c.world_to_camera = matrix(entry.at("world_to_camera"), at + ".world_to_camera");
-        if (entry.contains("projection")) c.projection = matrix(entry.at("projection"), at + ".projection");
-        else if (default_projection) c.projection = *default_projection;
-        else fail(at, "missing 'projection' (and no top-level 'projection' for every frame)");
-        c.source = fmt::format("{} (frame {})", file_, frame);
-        return c;
-    }
-
-    int frameNumber(const json& v, const std::string& at) const {
-        if (v.is_number_integer()) return v.get<int>();
-        if (v.is_string()) {
-            const std::string s = v.get<std::string>();
-            std::size_t used = 0;
-            try {
-                const int f = std::stoi(s, &used);
-                if (used == s.size()) return f;
-            } catch (const std::exception&) {
-            }
-        }
-        fail(at, "expected a whole frame number");
-    }
-
-    std::map<int, Camera> load() const {
-        std::ifstream in(file_, std::ios::binary);
-        if (!in) fail("", "cannot open the cameras file");
-        std::stringstream text;
-        text << in.rdbuf();
-        json doc;
-        try {
-            doc = json::parse(text.str(), nullptr, true, /*ignore_comments=*/true);
-        } catch (const json::exception& e) {
-            fail("", fmt::format("not valid JSON ({})", e.what()));
-        }
-        if (!doc.is_object() || !doc.contains("frames"))
-            fail("", "expected an object with \"frames\" (a camera per frame)");
-        std::optional<glm::dmat4> projection;
-        if (doc.contains("projection")) projection = matrix(doc.at("projection"), "projection");
-        std::map<int, Camera> cameras;
-        const json& frames = doc.at("frames");
-        auto add = [&](int frame, const json& entry, const std::string& at) {
-            if (!cameras.emplace(frame, camera(entry, at, projection, frame)).second)
-                fail(at, fmt::format("frame {} is given twice", frame));
-        };
-        if (frames.is_object()) {
-            for (const auto& [key, entry] : frames.items()) {
-                const std::string at = fmt::format("frames[{}]", json(key).dump());
-                add(frameNumber(json(key), at), entry, at);
-            }
-        } else if (frames.is_array()) {
-            for (std::size_t i = 0; i < frames.size(); ++i) {
-                const std::string at = fmt::format("frames[{}]", i);
-                if (!frames[i].is_object() || !frames[i].contains("frame")) fail(at, "missing 'frame'");
-                add(frameNumber(frames[i].at("frame"), at + ".frame"), frames[i], at);
-            }
-        } else {
-            fail("frames", "expected an object {\"1\": camera, ...} or an array of cameras with \"frame\"");
-        }
-        return cameras;
-    }
-
-private:
-    std::string file_;
-};
+    at.fail("expected a whole frame number");
+}
 
 }  // namespace
 
-std::map<int, Camera> loadPerFrameCameras(const std::string& path) { return PerFrameParser(path).load(); }
+std::map<int, Camera> loadPerFrameCameras(const std::string& file) {
+    const json doc = readJsonFile(file, "cameras file");
+    const JsonField root(doc, file);
+    if (!doc.is_object() || !doc.contains("frames")) root.fail("expected an object with \"frames\" (a camera per frame)");
+    std::optional<glm::dmat4> projection;
+    if (const auto p = root.optional("projection")) projection = p->invertibleMatrix4();
+    std::map<int, Camera> cameras;
+    const JsonField frames = root.required("frames");
+    auto add = [&](int frame, const JsonField& entry) {
+        if (!cameras.emplace(frame, frameCamera(entry, projection, frame)).second)
+            entry.fail(fmt::format("frame {} is given twice", frame));
+    };
+    if (frames.isObject()) {
+        for (const auto& [key, entry] : frames.members()) add(frameNumber(entry, key), entry);
+    } else if (frames.isArray()) {
+        for (const JsonField& entry : frames.elements()) {
+            if (!entry.isObject()) entry.fail("expected an object with \"frame\" and world_to_camera");
+            const JsonField frame = entry.required("frame");
+            add(frame.value().is_string() ? frameNumber(frame, frame.string()) : frame.integer(), entry);
+        }
+    } else {
+        frames.fail("expected an object {\"1\": camera, ...} or an array of cameras with \"frame\"");
+    }
+    return cameras;
+}
+
 
 FrameCameras::FrameCameras(const std::string& camera, const std::string& cameras) {
     if (!camera.empty() && !cameras.empty())

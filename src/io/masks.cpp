@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "decalcomp/error.hpp"
+#include "decalcomp/json_fields.hpp"
 #include "io/exr_layout.hpp"
 
 namespace decalcomp {
@@ -115,13 +116,6 @@ std::vector<CryptomatteLayer> cryptomatteLayers(const std::vector<ExrImage>& fil
 
 namespace {
 
-std::string oneLineReason(const std::string& what) {
-    std::string reason = what;
-    if (reason.starts_with("[json.exception.")) reason = reason.substr(std::min(reason.size(), reason.find("] ") + 2));
-    std::replace(reason.begin(), reason.end(), '\n', ' ');
-    return reason;
-}
-
 std::optional<std::uint32_t> parseHex(const std::string& s) {
     if (s.empty() || s.size() > 8) return std::nullopt;
     std::uint32_t v = 0;
@@ -159,19 +153,12 @@ std::map<std::string, std::uint32_t> cryptomatteManifest(const CryptomatteLayer&
     } else {
         return manifest;
     }
-    json parsed;
-    try {
-        parsed = json::parse(text);
-    } catch (const json::exception& e) {
-        throw inputError(fmt::format("{}: not valid JSON ({})", where, oneLineReason(e.what())));
-    }
-    if (!parsed.is_object())
-        throw inputError(fmt::format("{}: expected a JSON object mapping names to hexadecimal hashes", where));
-    for (const auto& [name, value] : parsed.items()) {
-        const auto hash = value.is_string() ? parseHex(value.get<std::string>()) : std::nullopt;
-        if (!hash)
-            throw inputError(fmt::format("{}: \"{}\": expected a hash of 8 hexadecimal digits, got {}", where, name,
-                                         value.dump()));
+    const json parsed = parseJsonText(text, where);
+    const JsonField root(parsed, where);
+    root.requireObject("a JSON object mapping names to hexadecimal hashes");
+    for (const auto& [name, value] : root.members()) {
+        const auto hash = value.value().is_string() ? parseHex(value.value().get<std::string>()) : std::nullopt;
+        if (!hash) value.fail(fmt::format("expected a hash of 8 hexadecimal digits, got {}", value.value().dump()));
         manifest[name] = *hash;
     }
     return manifest;

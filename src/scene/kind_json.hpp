@@ -1,10 +1,10 @@
 #pragma once
 // Scene-file fields of the decal kinds (box, volume, frustum, cube) and their fades.
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
 #include "decalcomp/decal.hpp"
+#include "decalcomp/json_fields.hpp"
 
 namespace decalcomp::scene_detail {
 
@@ -15,12 +15,12 @@ enum class TextureLayout { Image, VolumeStrip, CubeStrip, CubeFaces };
 std::optional<DecalKind> kindFromName(const std::string& name);
 
 // A frustum placed by origin/target/up without a size is a rigid projector at `origin`.
-bool isProjectorLookAt(const nlohmann::json& decal, DecalKind kind);
-glm::dmat4 projectorLookAt(const nlohmann::json& decal, const std::string& path, const std::string& file);
+bool isProjectorLookAt(const JsonField& decal, DecalKind kind);
+glm::dmat4 projectorLookAt(const JsonField& decal);
 
 // fov_y_deg/aspect/near/far (frustum only), "fade": {angle_deg, axis, distance} and
 // "occlusion" (frustum and cube).
-void parseKindFields(const nlohmann::json& decal, const std::string& path, const std::string& file, Decal& out);
+void parseKindFields(const JsonField& decal, Decal& out);
 
 // The layout a kind reads its texture in (a plain image means the kind's strip), or an error.
 TextureLayout layoutForKind(DecalKind kind, TextureLayout given, const std::string& path, const std::string& file);

@@ -1,25 +1,24 @@
 #pragma once
 // The "mask" field of a decal (docs/scene-format.md, "Masks"): JSON -> DecalMask (internal).
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "decalcomp/decal.hpp"
+#include "decalcomp/json_fields.hpp"
 
 namespace decalcomp::scene_detail {
 
 // The Cryptomatte layer a mask uses when it does not name one.
 inline constexpr const char* kDefaultCryptomatteLayer = "CryptoObject";
 
-// Parses `value` found at JSON path `path` of scene file `file`. Throws Error(Input)
-// "file: path...: what" (e.g. "scene.json: decals[2].mask.ids[1]: expected an integer").
+// Parses the mask field `value`. Throws Error(Input) "file: path...: what" (e.g.
+// "scene.json: decals[2].mask.ids[1]: expected an integer").
 // Id lists come back sorted without duplicates; Cryptomatte names keep their order (warnings
 // name them by index).
-DecalMask parseMaskJson(const nlohmann::json& value, const std::string& path, const std::string& file);
+DecalMask parseMaskJson(const JsonField& value);
 
 // Parses the mask and returns its index in `masks`, appending it only when no identical mask is
 // there yet, so decals with the same mask share one weight plane.
-int parseAndInternMask(const nlohmann::json& value, const std::string& path, const std::string& file,
-                       std::vector<DecalMask>& masks);
+int parseAndInternMask(const JsonField& value, std::vector<DecalMask>& masks);
 
 }  // namespace decalcomp::scene_detail

@@ -63,11 +63,4 @@ glm::dmat4 lookAtBox(const glm::dvec3& origin, const glm::dvec3& target, const g
     return composeTrs(target, rotation, size);
 }
 
-glm::dmat4 matrixFromRows(const double rows[4][4]) {
-    glm::dmat4 m;
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) m[c][r] = rows[r][c];
-    return m;
-}
-
 }  // namespace decalcomp::scene_detail

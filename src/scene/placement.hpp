@@ -18,7 +18,4 @@ glm::dmat4 composeTrs(const glm::dvec3& translate, const glm::dmat3& rotation, c
 // `up` made perpendicular to it; `size` = (width, height, depth) along local X, Y, Z.
 glm::dmat4 lookAtBox(const glm::dvec3& origin, const glm::dvec3& target, const glm::dvec3& up, const glm::dvec3& size);
 
-// Rows as written in files (M[row][col]) into GLM's column-major storage.
-glm::dmat4 matrixFromRows(const double rows[4][4]);
-
 }  // namespace decalcomp::scene_detail

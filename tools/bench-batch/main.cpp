@@ -20,6 +20,7 @@
 #include "decalcomp/device.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_io.hpp"
+#include "decalcomp/json_fields.hpp"
 #include "decalcomp/masks.hpp"
 #include "decalcomp/pipeline.hpp"
 #include "decalcomp/sequence_conventions.hpp"
@@ -38,12 +39,6 @@ void writeTexture(const Texture2D& t, const std::string& path) {
     spec.attribute("compression", "zip");
     if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, t.texels.data()) || !out->close())
         throw outputError(path + ": " + out->geterror());
-}
-
-nlohmann::json rows(const glm::dmat4& m) {
-    nlohmann::json r = nlohmann::json::array();
-    for (int row = 0; row < 4; ++row) r.push_back({m[0][row], m[1][row], m[2][row], m[3][row]});
-    return r;
 }
 
 double msSince(std::chrono::steady_clock::time_point t) {
@@ -225,10 +220,10 @@ int main(int argc, char** argv) {
                 glm::dmat4 turn(1.0);
                 turn[0][0] = c, turn[0][1] = s, turn[1][0] = -s, turn[1][1] = c;
                 end = end * turn;
-                j["keyframes"] = {{{"frame", 1}, {"matrix", rows(d.world_matrix)}},
-                                  {{"frame", animate_frames}, {"matrix", rows(end)}}};
+                j["keyframes"] = {{{"frame", 1}, {"matrix", matrixRowsJson(d.world_matrix)}},
+                                  {{"frame", animate_frames}, {"matrix", matrixRowsJson(end)}}};
             } else {
-                j["matrix"] = rows(d.world_matrix);
+                j["matrix"] = matrixRowsJson(d.world_matrix);
             }
             doc["decals"].push_back(j);
         }
