@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "decalcomp/camera.hpp"
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
 
 namespace decalcomp {
 

@@ -8,8 +8,10 @@
 
 #include "decalcomp/camera.hpp"
 #include "decalcomp/camera_solve.hpp"
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/compositor.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/depth_check.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "decalcomp/normal_check.hpp"
 
 namespace decalcomp {

@@ -14,8 +14,11 @@
 #include <thread>
 
 #include "decalcomp/batch.hpp"
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/device.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
 #include "decalcomp/masks.hpp"
 #include "decalcomp/pipeline.hpp"
 #include "decalcomp/scene.hpp"

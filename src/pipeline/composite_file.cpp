@@ -5,7 +5,12 @@
 #include <set>
 
 #include "decalcomp/camera_solve.hpp"
+#include "decalcomp/channel_mapping.hpp"
+#include "decalcomp/depth_check.hpp"
 #include "decalcomp/error.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
+#include "decalcomp/header_camera.hpp"
 #include "decalcomp/masks.hpp"
 #include "decalcomp/normal_check.hpp"
 #include "decalcomp/pipeline.hpp"

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
 
 namespace decalcomp::test {
 
