@@ -6,7 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/channel_mapping.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "io/exr_layout.hpp"
 #include "support/test_support.hpp"
 

@@ -12,6 +12,7 @@
 #include <set>
 #include <thread>
 
+#include "decalcomp/exr_file.hpp"
 #include "support/batch_fixture.hpp"
 #include "support/test_support.hpp"
 

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "support/test_support.hpp"
 
 namespace decalcomp {

@@ -12,8 +12,11 @@
 
 #include "decalcomp/camera.hpp"
 #include "decalcomp/camera_solve.hpp"
+#include "decalcomp/channel_mapping.hpp"
+#include "decalcomp/depth_check.hpp"
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
 #include "decalcomp/pipeline.hpp"
 #include "decalcomp/sequence_conventions.hpp"
 #include "decalcomp/synth.hpp"

@@ -12,8 +12,10 @@
 #include <filesystem>
 
 #include "decalcomp/camera.hpp"
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
 #include "support/test_support.hpp"
 
 namespace decalcomp {

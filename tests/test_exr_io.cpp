@@ -20,8 +20,10 @@
 #include <fstream>
 #include <random>
 
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
 #include "io/exr_layout.hpp"
 #include "support/test_support.hpp"
 

@@ -16,7 +16,10 @@
 #include <nlohmann/json.hpp>
 
 #include "decalcomp/camera.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/channel_mapping.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
+#include "decalcomp/header_camera.hpp"
 #include "support/test_support.hpp"
 
 namespace decalcomp {

@@ -14,7 +14,8 @@
 
 #include "decalcomp/camera.hpp"
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/header_camera.hpp"
 #include "support/test_support.hpp"
 
 namespace decalcomp {

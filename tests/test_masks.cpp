@@ -17,9 +17,11 @@
 #include <set>
 #include <nlohmann/json.hpp>
 
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
 #include "decalcomp/masks.hpp"
 #include "decalcomp/scene.hpp"
 #include "support/test_support.hpp"

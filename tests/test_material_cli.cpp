@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "decalcomp/camera.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "io/exr_layout.hpp"
 #include "support/test_support.hpp"
 

@@ -9,7 +9,7 @@
 #include <functional>
 #include <stdexcept>
 
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "io/exr_layout.hpp"
 #include "support/test_support.hpp"
 

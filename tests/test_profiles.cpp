@@ -10,8 +10,10 @@
 #include <set>
 
 #include "decalcomp/camera.hpp"
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
 #include "decalcomp/profiles.hpp"
 #include "support/test_support.hpp"
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
 #include "decalcomp/frame_pattern.hpp"
 #include "decalcomp/shard.hpp"
 

@@ -1,9 +1,7 @@
 #pragma once
 // A camera solved from a frame's own passes when no header or sidecar camera exists: every valid
-// pixel's world position (the Position plane) must project onto that pixel's centre. Also the
-// planar/radial depth check, which compares a depth pass with the position pass through a camera.
+// pixel's world position (the Position plane) must project onto that pixel's centre.
 #include <cstddef>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,23 +46,5 @@ struct Reprojection {
     double rms_px = 0.0, max_px = 0.0;
 };
 Reprojection reprojectionError(const GBuffer& gbuffer, const Camera& camera);
-
-// Planar vs radial: which one the depth pass follows, judged against the position pass through the
-// camera, over pixels where both are valid (relative errors; median decides, RMS/max reported).
-struct DepthCheck {
-    bool performed = false;
-    std::string reason;  // why not, or the verdict in words
-    std::size_t pixels = 0;
-    double planar_median = 0, planar_rms = 0, planar_max = 0;
-    double radial_median = 0, radial_rms = 0, radial_max = 0;
-    std::optional<DepthConvention> verdict;  // planar or radial when one fits clearly
-
-    std::string summary() const;  // one line for `info` and composite's report
-};
-DepthCheck checkDepthConvention(const GBuffer& gbuffer, const Camera& camera);
-
-// True where the pixel is geometry (not background) by the G-buffer's depth convention: the
-// depth rules of docs/conventions.md, or a finite position without a depth pass.
-bool isGeometryPixel(const GBuffer& gbuffer, std::size_t pixel);
 
 }  // namespace decalcomp

@@ -10,9 +10,11 @@
 
 #include "decalcomp/camera.hpp"
 #include "decalcomp/camera_solve.hpp"
+#include "decalcomp/depth_check.hpp"
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/decal.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/channel_mapping.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "decalcomp/normal_check.hpp"
 #include "decalcomp/sequence_conventions.hpp"
 

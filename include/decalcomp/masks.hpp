@@ -8,8 +8,9 @@
 #include <string_view>
 #include <vector>
 
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/decal.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "decalcomp/gbuffer.hpp"
 
 namespace decalcomp {

@@ -8,7 +8,8 @@
 
 #include "decalcomp/camera.hpp"
 #include "decalcomp/camera_solve.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/channel_mapping.hpp"
+#include "decalcomp/exr_file.hpp"
 
 namespace decalcomp {
 

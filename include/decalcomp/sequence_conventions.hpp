@@ -6,8 +6,8 @@
 #include <optional>
 
 #include "decalcomp/camera.hpp"
-#include "decalcomp/camera_solve.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/depth_check.hpp"
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/gbuffer.hpp"
 #include "decalcomp/normal_check.hpp"
 

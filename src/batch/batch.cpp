@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "decalcomp/batch.hpp"
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/device.hpp"
 #include "decalcomp/frame.hpp"

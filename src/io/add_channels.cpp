@@ -5,8 +5,9 @@
 #include <algorithm>
 #include <optional>
 
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "decalcomp/profiles.hpp"
 #include "io/exr_layout.hpp"
 

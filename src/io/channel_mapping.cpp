@@ -7,8 +7,9 @@
 #include <algorithm>
 #include <set>
 
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "decalcomp/profiles.hpp"
 
 namespace decalcomp {

@@ -16,7 +16,7 @@
 #include <fstream>
 
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "io/exr_layout.hpp"
 
 namespace decalcomp {

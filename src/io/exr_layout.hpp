@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <string>
 
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
 
 namespace decalcomp::io {
 

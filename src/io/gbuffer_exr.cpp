@@ -7,8 +7,10 @@
 #include <cstring>
 #include <limits>
 
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
 #include "io/exr_layout.hpp"
 
 namespace decalcomp {

@@ -9,7 +9,7 @@
 #include <map>
 
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/header_camera.hpp"
 
 namespace decalcomp {
 

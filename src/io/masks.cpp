@@ -18,7 +18,10 @@
 #include <optional>
 #include <sstream>
 
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
 #include "decalcomp/json_fields.hpp"
 #include "io/exr_layout.hpp"
 

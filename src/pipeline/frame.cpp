@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "decalcomp/error.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
 #include "decalcomp/masks.hpp"
 #include "decalcomp/pipeline.hpp"
 

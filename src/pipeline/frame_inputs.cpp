@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "decalcomp/error.hpp"
+#include "decalcomp/header_camera.hpp"
 #include "decalcomp/pipeline.hpp"
 
 namespace decalcomp {

@@ -9,8 +9,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "decalcomp/camera_solve.hpp"
 #include "decalcomp/error.hpp"
+#include "decalcomp/geometry.hpp"
 #include "decalcomp/normal_codec.hpp"
 #include "decalcomp/pipeline.hpp"
 #include "decalcomp/textures.hpp"

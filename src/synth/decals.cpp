@@ -3,7 +3,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <random>
 
-#include "decalcomp/reference.hpp"
+#include "decalcomp/geometry.hpp"
 #include "decalcomp/synth.hpp"
 
 namespace decalcomp::synth {
@@ -42,7 +42,7 @@ DecalScene scatterDecals(const GBuffer& frame, const Camera& camera, const Scatt
     for (int n = 0; n < options.count; ++n) {
         std::optional<glm::dvec3> centre;
         for (int attempt = 0; attempt < 32 && !centre; ++attempt)
-            centre = reference::pixelWorldPoint(frame, camera, px(rng), py(rng));
+            centre = pixelWorldPoint(frame, camera, px(rng), py(rng));
         if (!centre) centre = glm::dvec3(0.0);
         const glm::dvec3 axis = glm::normalize(glm::dvec3(u01(rng) - 0.5, u01(rng) - 0.5, u01(rng) - 0.5) + 1e-9);
         const double size = options.min_size + (options.max_size - options.min_size) * u01(rng);

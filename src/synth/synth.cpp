@@ -6,6 +6,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "decalcomp/geometry.hpp"
+
 namespace decalcomp::synth {
 
 namespace {
@@ -100,13 +102,9 @@ GBuffer render(const Scene& scene, const Camera& camera, const RenderOptions& op
     const bool ortho = camera.isOrthographic();
     for (int y = 0; y < g.height; ++y)
         for (int x = 0; x < g.width; ++x) {
-            const int dx = x + g.origin_x, dy = y + g.origin_y;  // display pixel
-            const glm::dvec2 ndc(2.0 * (dx + 0.5) / g.display_width - 1.0, 1.0 - 2.0 * (dy + 0.5) / g.display_height);
-            auto unproject = [&](double z) {
-                const glm::dvec4 c = inverse_projection * glm::dvec4(ndc, z, 1.0);
-                return glm::dvec3(c) / c.w;
-            };
-            const glm::dvec3 near_cam = unproject(-1.0), far_cam = unproject(1.0);
+            const glm::dvec2 ndc = pixelNdc(g, x, y);
+            const glm::dvec3 near_cam = unprojectNdc(inverse_projection, ndc, -1.0);
+            const glm::dvec3 far_cam = unprojectNdc(inverse_projection, ndc, 1.0);
             const glm::dvec3 origin_cam = ortho ? near_cam : glm::dvec3(0.0);
             const glm::dvec3 o = glm::dvec3(camera_to_world * glm::dvec4(origin_cam, 1.0));
             const glm::dvec3 dir = glm::normalize(glm::dvec3(camera_to_world * glm::dvec4(far_cam - near_cam, 0.0)));
@@ -120,7 +118,7 @@ GBuffer render(const Scene& scene, const Camera& camera, const RenderOptions& op
             glm::dvec3 p_cam = glm::dvec3(camera.world_to_camera * glm::dvec4(p_world, 1.0));
             const bool background = hit.material < 0 || -p_cam.z > camera.farPlane();
             if (depth) {
-                double d = 1e10;
+                double d = kBackgroundDepth;
                 if (!background) {
                     switch (options.depth) {
                         case DepthConvention::Planar:

@@ -17,9 +17,12 @@
 #include <vector>
 
 #include "decalcomp/batch.hpp"
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/device.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
+#include "decalcomp/header_camera.hpp"
 #include "decalcomp/pipeline.hpp"
 #include "decalcomp/scene.hpp"
 #include "decalcomp/synth.hpp"

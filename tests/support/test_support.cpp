@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "decalcomp/error.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "decalcomp/scene.hpp"
 
 namespace decalcomp::test {

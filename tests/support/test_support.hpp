@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
 
 namespace decalcomp::test {
 

@@ -16,10 +16,12 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/device.hpp"
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
 #include "decalcomp/json_fields.hpp"
 #include "decalcomp/masks.hpp"
 #include "decalcomp/pipeline.hpp"

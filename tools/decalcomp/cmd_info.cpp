@@ -4,7 +4,10 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
+#include "decalcomp/exr_file.hpp"
+#include "decalcomp/gbuffer_exr.hpp"
 #include "decalcomp/pipeline.hpp"
 #include "decalcomp/sequence_conventions.hpp"
 

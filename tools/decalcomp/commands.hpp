@@ -5,7 +5,7 @@
 #include <functional>
 #include <map>
 
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/channel_mapping.hpp"
 
 namespace decalcomp::cli {
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "commands.hpp"
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/profiles.hpp"
 

@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "decalcomp/error.hpp"
+#include "decalcomp/header_camera.hpp"
 
 namespace decalcomp::gen {
 

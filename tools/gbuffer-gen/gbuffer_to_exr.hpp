@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "decalcomp/camera.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "decalcomp/gbuffer.hpp"
 
 namespace decalcomp::gen {

@@ -14,7 +14,7 @@
 
 #include "decalcomp/camera.hpp"
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_io.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "decalcomp/synth.hpp"
 #include "gbuffer_to_exr.hpp"
 

@@ -2,9 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
-#include "decalcomp/reference.hpp"
+#include "decalcomp/geometry.hpp"
 
 namespace decalcomp {
 
@@ -19,9 +20,9 @@ constexpr double kGoodAgreement = 0.9, kMargin = 0.2;
 // nullopt where a neighbour is missing or the surface bends or breaks there (a silhouette).
 std::optional<glm::dvec3> geometricNormal(const GBuffer& g, const Camera& camera, const glm::dvec3& eye, int x, int y) {
     if (x < 1 || y < 1 || x + 1 >= g.width || y + 1 >= g.height) return std::nullopt;
-    const auto p = reference::pixelWorldPoint(g, camera, x, y);
-    const auto l = reference::pixelWorldPoint(g, camera, x - 1, y), r = reference::pixelWorldPoint(g, camera, x + 1, y);
-    const auto u = reference::pixelWorldPoint(g, camera, x, y - 1), d = reference::pixelWorldPoint(g, camera, x, y + 1);
+    const auto p = pixelWorldPoint(g, camera, x, y);
+    const auto l = pixelWorldPoint(g, camera, x - 1, y), r = pixelWorldPoint(g, camera, x + 1, y);
+    const auto u = pixelWorldPoint(g, camera, x, y - 1), d = pixelWorldPoint(g, camera, x, y + 1);
     if (!p || !l || !r || !u || !d) return std::nullopt;
     // smooth: each side's step about as long as the other's
     auto smooth = [](const glm::dvec3& a, const glm::dvec3& b) {

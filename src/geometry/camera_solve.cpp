@@ -1,6 +1,5 @@
 // solveCamera: a camera from the position pass by least squares (normalised DLT, reweighted to the
-// geometric error, affine fit for orthographic cameras), decomposed into decalcomp's conventions;
-// checkDepthConvention: planar vs radial against the position pass.
+// geometric error, affine fit for orthographic cameras), decomposed into decalcomp's conventions.
 #include "decalcomp/camera_solve.hpp"
 
 #include <fmt/format.h>
@@ -11,6 +10,8 @@
 #include <limits>
 
 #include "decalcomp/error.hpp"
+#include "decalcomp/geometry.hpp"
+#include "geometry/median.hpp"
 
 namespace decalcomp {
 
@@ -286,18 +287,8 @@ std::vector<const Point*> subset(const std::vector<const Point*>& points, std::s
     return out;
 }
 
-glm::dvec2 pixelToNdc(const glm::dvec2& pixel, const GBuffer& g) {
-    return {2.0 * pixel.x / g.display_width - 1.0, 1.0 - 2.0 * pixel.y / g.display_height};
-}
-
 void setRow(glm::dmat4& m, int r, const glm::dvec4& v) {
     for (int c = 0; c < 4; ++c) m[c][r] = v[c];
-}
-
-bool depthIsBackground(const GBuffer& g, float d) {
-    if (!std::isfinite(d)) return true;
-    if (g.depth_convention == DepthConvention::Ndc) return g.reversed_z ? d <= 0.0f : d >= 1.0f;
-    return d <= 0.0f || d >= 1e10f;
 }
 
 std::vector<Point> collectPoints(const GBuffer& g) {
@@ -532,20 +523,7 @@ void finishDepthRange(const GBuffer& g, const std::vector<const Point*>& points,
     setRow(camera.projection, 2, {0.0, 0.0, a, b});
 }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
-
 }  // namespace
-
-bool isGeometryPixel(const GBuffer& g, std::size_t i) {
-    if (g.has(Attribute::Depth)) return !depthIsBackground(g, g.planes.at(Attribute::Depth).at(i, 0));
-    if (!g.has(Attribute::Position)) return false;
-    const Plane& p = g.planes.at(Attribute::Position);
-    return std::isfinite(p.at(i, 0)) && std::isfinite(p.at(i, 1)) && std::isfinite(p.at(i, 2));
-}
 
 std::string CameraSolveReport::summary() const {
     std::string s = fmt::format("{}{}, reprojection RMS {:.4g} px, max {:.4g} px over {} pixels",
@@ -598,7 +576,7 @@ Camera solveCamera(const GBuffer& g, const std::string& label, CameraSolveReport
         std::vector<double> residuals;
         residuals.reserve(every.size());
         for (const Point* p : every) residuals.push_back(residualPx(*projective, *p));
-        const double threshold = std::max(options.outlier_px, 3.0 * median(residuals));
+        const double threshold = std::max(options.outlier_px, 3.0 * geometry::median(residuals));
         std::vector<const Point*> next;
         for (std::size_t i = 0; i < every.size(); ++i)
             if (residuals[i] <= threshold) next.push_back(every[i]);
@@ -627,7 +605,7 @@ Camera solveCamera(const GBuffer& g, const std::string& label, CameraSolveReport
     auto residual = [&](const Point& p) {
         const glm::dvec4 clip = camera.projection * camera.world_to_camera * glm::dvec4(p.world, 1.0);
         const glm::dvec2 ndc = glm::dvec2(clip) / clip.w;
-        const glm::dvec2 expected = pixelToNdc(p.pixel, g);
+        const glm::dvec2 expected = displayPixelToNdc(g, p.pixel);
         const double dx = (ndc.x - expected.x) * 0.5 * g.display_width, dy = (ndc.y - expected.y) * 0.5 * g.display_height;
         const double e = std::sqrt(dx * dx + dy * dy);
         return std::isfinite(e) ? e : std::numeric_limits<double>::infinity();
@@ -670,7 +648,7 @@ Reprojection reprojectionError(const GBuffer& g, const Camera& camera) {
     for (const Point& p : collectPoints(g)) {
         const glm::dvec4 clip = camera.projection * camera.world_to_camera * glm::dvec4(p.world, 1.0);
         const glm::dvec2 ndc = glm::dvec2(clip) / clip.w;
-        const glm::dvec2 expected = pixelToNdc(p.pixel, g);
+        const glm::dvec2 expected = displayPixelToNdc(g, p.pixel);
         const double dx = (ndc.x - expected.x) * 0.5 * g.display_width, dy = (ndc.y - expected.y) * 0.5 * g.display_height;
         double e = std::sqrt(dx * dx + dy * dy);
         if (!std::isfinite(e)) e = std::numeric_limits<double>::infinity();
@@ -680,70 +658,6 @@ Reprojection reprojectionError(const GBuffer& g, const Camera& camera) {
     }
     r.rms_px = r.points ? std::sqrt(sum / double(r.points)) : 0.0;
     return r;
-}
-
-std::string DepthCheck::summary() const {
-    if (!performed) return "not checked (" + reason + ")";
-    return fmt::format("{}; relative error planar median {:.3g} (RMS {:.3g}, max {:.3g}), radial median {:.3g} "
-                       "(RMS {:.3g}, max {:.3g}) over {} pixels",
-                       reason, planar_median, planar_rms, planar_max, radial_median, radial_rms, radial_max, pixels);
-}
-
-DepthCheck checkDepthConvention(const GBuffer& g, const Camera& camera) {
-    DepthCheck check;
-    if (!g.has(Attribute::Depth) || !g.has(Attribute::Position)) {
-        check.reason = "needs a depth and a position pass";
-        return check;
-    }
-    if (g.depth_convention != DepthConvention::Planar && g.depth_convention != DepthConvention::Radial) {
-        check.reason = fmt::format("the depth convention is {}", depthConventionName(g.depth_convention));
-        return check;
-    }
-    if (camera.isOrthographic()) {
-        check.reason = "orthographic camera: planar and radial depth are the same";
-        return check;
-    }
-    const Plane& depth = g.planes.at(Attribute::Depth);
-    const Plane& position = g.planes.at(Attribute::Position);
-    std::vector<double> planar, radial;
-    for (std::size_t i = 0; i < g.pixelCount(); ++i) {
-        if (!isGeometryPixel(g, i)) continue;
-        const glm::dvec3 world(position.at(i, 0), position.at(i, 1), position.at(i, 2));
-        if (!std::isfinite(world.x) || !std::isfinite(world.y) || !std::isfinite(world.z)) continue;
-        const glm::dvec3 c(camera.world_to_camera * glm::dvec4(world, 1.0));
-        const double d = depth.at(i, 0), p = -c.z, r = glm::length(c);
-        if (!(p > 0.0)) continue;
-        planar.push_back(std::abs(d - p) / p);
-        radial.push_back(std::abs(d - r) / r);
-    }
-    check.pixels = planar.size();
-    if (planar.empty()) {
-        check.reason = "no pixel with both depth and position in front of the camera";
-        return check;
-    }
-    check.performed = true;
-    auto summarise = [](const std::vector<double>& e, double& med, double& rms, double& max) {
-        double sum = 0.0;
-        for (double v : e) {
-            sum += v * v;
-            max = std::max(max, v);
-        }
-        rms = std::sqrt(sum / double(e.size()));
-        med = median(e);
-    };
-    summarise(planar, check.planar_median, check.planar_rms, check.planar_max);
-    summarise(radial, check.radial_median, check.radial_rms, check.radial_max);
-    const double best = std::min(check.planar_median, check.radial_median);
-    const double other = std::max(check.planar_median, check.radial_median);
-    if (best < 1e-3 && other > 4.0 * best + 1e-5) {
-        check.verdict = check.planar_median <= check.radial_median ? DepthConvention::Planar : DepthConvention::Radial;
-        check.reason = fmt::format("{} (the depth pass matches the position pass)", depthConventionName(*check.verdict));
-    } else if (best < 1e-3) {
-        check.reason = "undecided: planar and radial fit equally (narrow field of view?)";
-    } else {
-        check.reason = "neither planar nor radial matches the position pass (ndc depth? pass --depth)";
-    }
-    return check;
 }
 
 }  // namespace decalcomp
