@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 #include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/exr_file.hpp"
@@ -15,6 +14,7 @@ namespace decalcomp {
 namespace {
 
 using test::ScratchDir;
+using test::channel;
 using test::shellQuote;
 
 // A Blender-named demo frame (no roughness or metallic channels) and its camera.
@@ -37,13 +37,6 @@ std::vector<std::string> channelNames(const ExrImage& image) {
         for (const ExrChannel& c : part.channels) names.push_back(c.qualified);
     std::sort(names.begin(), names.end());
     return names;
-}
-
-const ExrChannel& channel(const ExrImage& image, const std::string& qualified) {
-    for (const ExrPart& part : image.parts)
-        for (const ExrChannel& c : part.channels)
-            if (c.qualified == qualified) return c;
-    throw std::runtime_error(image.path + ": no channel " + qualified);
 }
 
 TEST(AddChannels, WithoutTheFlagNothingIsAddedAndTheUserIsWarned) {

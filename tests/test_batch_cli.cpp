@@ -52,12 +52,6 @@ std::vector<int> writtenFrames(const std::string& log) {
     return frames;
 }
 
-std::size_t count(const std::string& text, const std::string& needle) {
-    std::size_t n = 0;
-    for (auto at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1)) ++n;
-    return n;
-}
-
 // Every file under `dir`, relative names.
 std::set<std::string> filesUnder(const fs::path& dir) {
     std::set<std::string> names;
@@ -134,7 +128,7 @@ TEST(BatchCli, ResumeSkipsCompleteOutputs) {
     std::vector<int> written = writtenFrames(r.output);  // in the order they finished
     std::sort(written.begin(), written.end());
     EXPECT_EQ(written, (std::vector<int>{2, 5})) << r.output;
-    EXPECT_EQ(count(r.output, "skipped: "), 4u) << r.output;
+    EXPECT_EQ(test::occurrences(r.output, "skipped: "), 4u) << r.output;
     for (int f : {1, 3, 4, 6}) EXPECT_EQ(fs::last_write_time(s.out(f)), before[f]) << "frame " << f << " rewritten";
     for (int f = 1; f <= 6; ++f) EXPECT_TRUE(fs::exists(s.out(f)));
 }
@@ -349,7 +343,7 @@ TEST(BatchCli, MissingChannelWarningIsReportedOncePerBatch) {
     const auto r = test::runCli("batch " + shellQuote(s.input) + " -o " + shellQuote(s.output) + " --decals " +
                                 shellQuote(scene) + " --device cpu --frames 1-3 --quiet");
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    EXPECT_EQ(count(r.output, "decals change roughness but the input has no roughness channels"), 1u) << r.output;
+    EXPECT_EQ(test::occurrences(r.output, "decals change roughness but the input has no roughness channels"), 1u) << r.output;
     for (int f : {1, 2, 3}) EXPECT_TRUE(fs::exists(s.out(f))) << f;
 }
 

@@ -26,6 +26,7 @@ namespace decalcomp {
 namespace {
 
 namespace fs = std::filesystem;
+using test::qualifiedNames;
 using test::ScratchDir;
 
 test::CommandResult runGen(const std::string& arguments) {
@@ -46,13 +47,6 @@ const ExrChannel* findChannel(const ExrImage& image, const std::string& qualifie
         for (const ExrChannel& channel : part.channels)
             if (channel.qualified == qualified) return &channel;
     return nullptr;
-}
-
-std::set<std::string> qualifiedNames(const ExrImage& image) {
-    std::set<std::string> names;
-    for (const ExrPart& part : image.parts)
-        for (const ExrChannel& channel : part.channels) names.insert(channel.qualified);
-    return names;
 }
 
 void expectChannels(const ExrImage& image, const std::map<std::string, SampleType>& expected) {

@@ -7,7 +7,6 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
-#include <stdexcept>
 
 #include "decalcomp/exr_file.hpp"
 #include "io/exr_layout.hpp"
@@ -18,6 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::ScratchDir;
+using test::channel;
 using test::shellQuote;
 
 const std::string kSize = "--width 96 --height 72";
@@ -31,13 +31,6 @@ test::CommandResult composite(const std::string& inputs, const std::string& came
                               const std::string& extra = "") {
     return test::runCli("composite " + inputs + " --decals " + shellQuote(test::dataPath("sample/boxes.json")) +
                         " --camera " + shellQuote(camera) + " --device cpu -o " + shellQuote(output) + " " + extra);
-}
-
-const ExrChannel& channel(const ExrImage& image, const std::string& qualified) {
-    for (const ExrPart& part : image.parts)
-        for (const ExrChannel& c : part.channels)
-            if (c.qualified == qualified) return c;
-    throw std::runtime_error(image.path + ": no channel " + qualified);
 }
 
 // The sample at display pixel (x, y) of a single-part image, as raw bits (float or half widened).

@@ -1,6 +1,5 @@
 // The preview PNG: albedo before | after and, with a normal pass, a lit row in which normal-map
 // decals show (the sample's floor dent changes only normals, so only the lit row shows it).
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -11,25 +10,9 @@
 namespace decalcomp {
 namespace {
 
+using test::Png;
+using test::readPng;
 using test::shellQuote;
-
-struct Png {
-    int width = 0, height = 0;
-    std::vector<std::uint8_t> rgb;
-    const std::uint8_t* at(int x, int y) const { return &rgb[(std::size_t(y) * width + x) * 3]; }
-};
-
-Png readPng(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    EXPECT_TRUE(in) << path;
-    Png png;
-    if (!in) return png;
-    png.width = in->spec().width;
-    png.height = in->spec().height;
-    png.rgb.resize(std::size_t(png.width) * png.height * 3);
-    EXPECT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, png.rgb.data()));
-    return png;
-}
 
 bool same(const std::uint8_t* a, const std::uint8_t* b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 

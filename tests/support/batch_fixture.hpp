@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,46 +39,69 @@ inline Camera sequenceCamera(int frame, int width, int height) {
     return c;
 }
 
+// The synthetic demo scene seen by sequenceCamera(frame), depth in `depth`'s convention.
+inline GBuffer renderSequenceFrame(int frame, int width, int height, DepthConvention depth = DepthConvention::Planar) {
+    synth::RenderOptions options;
+    options.width = width;
+    options.height = height;
+    options.depth = depth;
+    return synth::render(synth::demoScene(), sequenceCamera(frame, width, height), options);
+}
+
+// Float samples by channel name, for writeFloatExr.
+using ChannelSamples = std::map<std::string, std::vector<float>>;
+
+// A frame's passes as the generic profile names them: Z, albedo.RGB, P.XYZ.
+inline ChannelSamples genericPasses(const GBuffer& g) {
+    ChannelSamples channels;
+    const Plane& depth = g.planes.at(Attribute::Depth);
+    const Plane& albedo = g.planes.at(Attribute::Albedo);
+    const Plane& position = g.planes.at(Attribute::Position);
+    for (std::size_t i = 0; i < g.pixelCount(); ++i) {
+        channels["Z"].push_back(depth.at(i, 0));
+        for (int c = 0; c < 3; ++c) {
+            channels[std::string("albedo.") + "RGB"[c]].push_back(albedo.at(i, c));
+            channels[std::string("P.") + "XYZ"[c]].push_back(position.at(i, c));
+        }
+    }
+    return channels;
+}
+
+// A single-part ZIP-compressed EXR of float channels, with `camera` in its header when given.
+inline void writeFloatExr(const std::string& path, int width, int height, const ChannelSamples& channels,
+                          const std::optional<Camera>& camera = std::nullopt) {
+    Imf::Header header(width, height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    if (camera) writeCameraToExrHeader(*camera, header);
+    Imf::FrameBuffer fb;
+    for (const auto& [channel, samples] : channels) {
+        header.channels().insert(channel, Imf::Channel(Imf::FLOAT));
+        // OutputFile only reads the slices.
+        fb.insert(channel, Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(samples.data())),
+                                      sizeof(float), sizeof(float) * std::size_t(width)));
+    }
+    Imf::OutputFile file(path.c_str(), header);
+    file.setFrameBuffer(fb);
+    file.writePixels(height);
+}
+
 // frame.####.exr under `dir` for each frame; returns the pattern.
 inline std::string writeSequence(const std::filesystem::path& dir, const std::vector<int>& frames, int width = 64,
                                  int height = 48, const std::string& name = "frame.####.exr",
                                  bool header_camera = true) {
     std::filesystem::create_directories(dir);
     const FramePattern pattern((dir / name).string());
-    const synth::Scene scene = synth::demoScene();
     for (int f : frames) {
-        const Camera camera = sequenceCamera(f, width, height);
-        synth::RenderOptions options;
-        options.width = width;
-        options.height = height;
-        const GBuffer g = synth::render(scene, camera, options);
-        Imf::Header header(width, height);
-        header.compression() = Imf::ZIP_COMPRESSION;
-        if (header_camera) writeCameraToExrHeader(camera, header);
-        const std::size_t pixels = g.pixelCount();
-        std::map<std::string, std::vector<float>> channels;
-        const Plane& depth = g.planes.at(Attribute::Depth);
+        const GBuffer g = renderSequenceFrame(f, width, height);
+        ChannelSamples channels = genericPasses(g);
         const Plane& albedo = g.planes.at(Attribute::Albedo);
-        const Plane& position = g.planes.at(Attribute::Position);
-        for (std::size_t i = 0; i < pixels; ++i) {
-            channels["Z"].push_back(depth.at(i, 0));
-            for (int c = 0; c < 3; ++c) {
-                channels[std::string("albedo.") + "RGB"[c]].push_back(albedo.at(i, c));
-                channels[std::string("P.") + "XYZ"[c]].push_back(position.at(i, c));
+        for (std::size_t i = 0; i < g.pixelCount(); ++i) {
+            for (int c = 0; c < 3; ++c)
                 channels[std::string(1, "RGB"[c])].push_back(0.5f * albedo.at(i, c) + 0.01f * float(f));
-            }
             channels["A"].push_back(1.0f);
         }
-        Imf::FrameBuffer fb;
-        for (auto& [channel, samples] : channels) {
-            header.channels().insert(channel, Imf::Channel(Imf::FLOAT));
-            fb.insert(channel, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(samples.data()), sizeof(float),
-                                          sizeof(float) * std::size_t(width)));
-        }
-        const std::string path = pattern.path(f);
-        Imf::OutputFile file(path.c_str(), header);
-        file.setFrameBuffer(fb);
-        file.writePixels(height);
+        writeFloatExr(pattern.path(f), width, height, channels,
+                      header_camera ? std::optional<Camera>(sequenceCamera(f, width, height)) : std::nullopt);
     }
     return (dir / name).string();
 }
@@ -110,6 +134,17 @@ inline std::string writeSequenceScene(const std::filesystem::path& dir) {
                    {"frame": 8, "translate": [1.5, -1.0, 0.0], "rotate_deg": [0, 0, 90], "scale": [0.6, 0.6, 0.5]}]}
   ]
 })";
+    return path;
+}
+
+// One static red decal on the floor (2 x 2 units) and nothing animated, so a frame composites
+// the same with or without a frame number. `affects` is the decal's "affects" JSON, if any.
+inline std::string writeStaticScene(const std::filesystem::path& dir, const std::string& affects = "") {
+    writeSolidPng((dir / "red.png").string(), 230, 20, 20);
+    const std::string path = (dir / "static_scene.json").string();
+    std::ofstream(path) << R"({"textures": {"red": "red.png"}, "decals": [{"name": "static", "texture": "red", )"
+                        << R"("translate": [0.5, 0.0, 0.0], "scale": [2.0, 2.0, 0.5])"
+                        << (affects.empty() ? "" : ", \"affects\": " + affects) << "}]}";
     return path;
 }
 

@@ -1,5 +1,6 @@
 #include "support/test_support.hpp"
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -95,6 +96,38 @@ ExrImage imageWithChannels(const std::vector<std::string>& names) {
     }
     image.parts.push_back(part);
     return image;
+}
+
+const ExrChannel& channel(const ExrImage& image, const std::string& qualified) {
+    for (const ExrPart& part : image.parts)
+        for (const ExrChannel& c : part.channels)
+            if (c.qualified == qualified) return c;
+    throw std::runtime_error(image.path + ": no channel " + qualified);
+}
+
+std::set<std::string> qualifiedNames(const ExrImage& image) {
+    std::set<std::string> names;
+    for (const ExrPart& part : image.parts)
+        for (const ExrChannel& c : part.channels) names.insert(c.qualified);
+    return names;
+}
+
+std::size_t occurrences(const std::string& text, const std::string& needle) {
+    std::size_t n = 0;
+    for (auto at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1)) ++n;
+    return n;
+}
+
+Png readPng(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    EXPECT_TRUE(in) << path;
+    Png png;
+    if (!in) return png;
+    png.width = in->spec().width;
+    png.height = in->spec().height;
+    png.rgb.resize(std::size_t(png.width) * png.height * 3);
+    EXPECT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, png.rgb.data()));
+    return png;
 }
 
 }  // namespace decalcomp::test

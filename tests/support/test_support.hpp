@@ -1,7 +1,9 @@
 #pragma once
 // Small helpers shared by the tests: scratch folders, running the CLI, data paths.
+#include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -48,5 +50,23 @@ ExrImage imageWithChannels(const std::vector<std::string>& names);
 // Runs decalcomp-gbuffer-gen with `arguments`, writing `output` (and the camera sidecar `camera`
 // when given, else the generator's default beside it).
 CommandResult runGenerator(const std::string& arguments, const std::string& output, const std::string& camera = "");
+
+// The channel whose qualified name ("albedo.R", "part.name") is `qualified`; throws when none.
+const ExrChannel& channel(const ExrImage& image, const std::string& qualified);
+
+// Every channel's qualified name, over all parts.
+std::set<std::string> qualifiedNames(const ExrImage& image);
+
+// How often `needle` occurs in `text` (overlapping occurrences count).
+std::size_t occurrences(const std::string& text, const std::string& needle);
+
+// An 8-bit RGB image read through OpenImageIO (a preview PNG).
+struct Png {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> rgb;
+    const std::uint8_t* at(int x, int y) const { return &rgb[(std::size_t(y) * width + x) * 3]; }
+};
+// Reads `path`'s first three channels; a failed check (and an empty image) when it cannot.
+Png readPng(const std::string& path);
 
 }  // namespace decalcomp::test

@@ -1,0 +1,261 @@
+// `decalcomp batch` features end to end through the CLI, each checked against single-frame
+// `decalcomp composite` where one exists: per-pass files per frame (--pass ATTR=PATTERN), folder
+// outputs and --resume with them, -o without a frame token, --add-channels, --preview patterns
+// and frames spread over several devices (--device cpu,cpu).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <set>
+
+#include "io/exr_layout.hpp"
+#include "support/batch_fixture.hpp"
+#include "support/test_support.hpp"
+
+namespace decalcomp {
+namespace {
+
+namespace fs = std::filesystem;
+using test::channel;
+using test::Png;
+using test::readPng;
+using test::shellQuote;
+
+constexpr int kWidth = 64, kHeight = 48;
+const std::vector<int> kFrames = {1, 2, 3};
+
+// Three frames as two files each: in/depth.####.exr (Z only) and in/albedo.####.exr (albedo.RGB
+// and P.XYZ), both with the frame's camera in the header, and a static decal scene.
+struct PassSequence {
+    test::ScratchDir dir;
+    std::string albedo = (dir.path() / "in" / "albedo.####.exr").string();
+    std::string depth = (dir.path() / "in" / "depth.####.exr").string();
+    std::string scene;
+
+    explicit PassSequence(const std::string& affects = "") {
+        fs::create_directories(dir.path() / "in");
+        for (int f : kFrames) {
+            test::ChannelSamples passes = test::genericPasses(test::renderSequenceFrame(f, kWidth, kHeight));
+            const Camera camera = test::sequenceCamera(f, kWidth, kHeight);
+            test::writeFloatExr(depthAt(f), kWidth, kHeight, {{"Z", passes.at("Z")}}, camera);
+            passes.erase("Z");
+            test::writeFloatExr(albedoAt(f), kWidth, kHeight, passes, camera);
+        }
+        scene = test::writeStaticScene(dir.path(), affects);
+    }
+    std::string albedoAt(int f) const { return FramePattern(albedo).path(f); }
+    std::string depthAt(int f) const { return FramePattern(depth).path(f); }
+
+    test::CommandResult batch(const std::string& output, const std::string& extra = "") const {
+        return test::runCli("batch " + shellQuote(albedo) + " --pass depth=" + shellQuote(depth) + " --decals " +
+                            shellQuote(scene) + " -o " + shellQuote(output) + " --progress lines " + extra);
+    }
+    // `decalcomp composite` on frame `f`'s two files, written to `output`.
+    ExrImage composite(int f, const std::string& output, const std::string& extra = "") const {
+        const auto r =
+            test::runCli("composite " + shellQuote(albedoAt(f)) + " --pass depth=" + shellQuote(depthAt(f)) +
+                         " --decals " + shellQuote(scene) + " --device cpu -o " + shellQuote(output) + " " + extra);
+        EXPECT_EQ(r.exit_code, 0) << r.output;
+        return readExr(output);
+    }
+};
+
+std::set<std::string> filesIn(const fs::path& dir) {
+    std::set<std::string> names;
+    if (!fs::exists(dir)) return names;
+    for (const auto& e : fs::recursive_directory_iterator(dir))
+        if (!e.is_directory()) names.insert(fs::relative(e.path(), dir).string());
+    return names;
+}
+
+// How many samples of `name` differ between the two images.
+std::size_t changedSamples(const ExrImage& a, const ExrImage& b, const std::string& name) {
+    const ExrChannel &x = channel(a, name), &y = channel(b, name);
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < x.bytes.size() / io::sampleSize(x.type); ++i)
+        n += io::sampleAsFloat(x, i) != io::sampleAsFloat(y, i);
+    return n;
+}
+
+// The batch's output of every frame equals `composite`'s of that frame, and the decal landed.
+void expectBatchMatchesComposite(const PassSequence& s, const std::function<std::string(int)>& batch_output,
+                                 const std::string& extra = "") {
+    for (int f : kFrames) {
+        const ExrImage batched = readExr(batch_output(f));
+        const ExrImage single = s.composite(f, s.dir.file("single." + std::to_string(f) + ".exr"), extra);
+        EXPECT_EQ(test::pixelDifference(batched, single), "") << "frame " << f;
+        EXPECT_GT(changedSamples(batched, readExr(s.albedoAt(f)), "albedo.R"), 50u) << "frame " << f;
+    }
+}
+
+TEST(BatchFeatures, PerPassFilesPerFrameMatchSingleFrameComposite) {
+    PassSequence s;
+    const std::string out = s.dir.file("out/comp.####.exr");
+    const auto r = s.batch(out, "--device cpu");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(test::occurrences(r.output, " written "), 3u) << r.output;
+    EXPECT_EQ(filesIn(s.dir.path() / "out"),
+              (std::set<std::string>{"comp.0001.exr", "comp.0002.exr", "comp.0003.exr"}));
+    for (int f : kFrames)  // the layout of the file holding the albedo: no Z
+        EXPECT_EQ(test::qualifiedNames(readExr(FramePattern(out).path(f))),
+                  test::qualifiedNames(readExr(s.albedoAt(f))))
+            << f;
+    expectBatchMatchesComposite(s, [&](int f) { return FramePattern(out).path(f); });
+    // Each frame took its own depth file: with frame 1's depth everywhere, frame 3 composites differently.
+    const auto wrong =
+        test::runCli("composite " + shellQuote(s.albedoAt(3)) + " --pass depth=" + shellQuote(s.depthAt(1)) +
+                     " --decals " + shellQuote(s.scene) + " --device cpu -q -o " + shellQuote(s.dir.file("wrong.exr")));
+    ASSERT_EQ(wrong.exit_code, 0) << wrong.output;
+    EXPECT_NE(test::pixelDifference(readExr(FramePattern(out).path(3)), readExr(s.dir.file("wrong.exr"))), "");
+}
+
+TEST(BatchFeatures, FolderOutputKeepsTheAlbedoFilesNameAndResumeSkipsEveryFrame) {
+    PassSequence s;
+    const std::string folder = s.dir.file("outdir") + "/";
+    const auto r = s.batch(folder, "--device cpu");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(filesIn(s.dir.path() / "outdir"),
+              (std::set<std::string>{"albedo.0001.exr", "albedo.0002.exr", "albedo.0003.exr"}))
+        << "only the file holding the albedo is written, under its input's name; never the depth file";
+    for (int f : kFrames)
+        EXPECT_NE(r.output.find("frame " + std::to_string(f) + " written " + folder + "albedo.000" + std::to_string(f) +
+                                ".exr"),
+                  std::string::npos)
+            << r.output;
+    expectBatchMatchesComposite(s, [&](int f) { return folder + fs::path(s.albedoAt(f)).filename().string(); });
+
+    std::map<std::string, fs::file_time_type> before;
+    for (const std::string& name : filesIn(s.dir.path() / "outdir")) before[name] = fs::last_write_time(folder + name);
+    const auto again = s.batch(folder, "--device cpu --resume");
+    ASSERT_EQ(again.exit_code, 0) << again.output;
+    for (int f : kFrames)
+        EXPECT_NE(again.output.find("frame " + std::to_string(f) + " skipped"), std::string::npos) << again.output;
+    EXPECT_EQ(test::occurrences(again.output, " written "), 0u) << again.output;
+    EXPECT_NE(again.output.find("0 written, 3 skipped, 0 failed of 3 frames"), std::string::npos) << again.output;
+    for (const auto& [name, time] : before) EXPECT_EQ(fs::last_write_time(folder + name), time) << name << " rewritten";
+    EXPECT_EQ(filesIn(s.dir.path() / "outdir").size(), 3u);
+}
+
+TEST(BatchFeatures, OutputWithoutFrameTokenThatIsNoFolderIsAUsageError) {
+    PassSequence s;
+    const std::string out = s.dir.file("out.exr");
+    const auto r = s.batch(out, "--device cpu");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("-o " + out + ": give a frame pattern"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out));
+    // An existing folder without a trailing '/' is a folder output.
+    fs::create_directories(s.dir.file("existing"));
+    const auto folder = s.batch(s.dir.file("existing"), "--device cpu -q");
+    ASSERT_EQ(folder.exit_code, 0) << folder.output;
+    EXPECT_EQ(filesIn(s.dir.path() / "existing").size(), 3u);
+    EXPECT_TRUE(fs::exists(s.dir.file("existing/albedo.0002.exr")));
+}
+
+TEST(BatchFeatures, AddChannelsGivesEveryFrameARoughnessChannelLikeComposite) {
+    PassSequence s(R"({"albedo": 1, "roughness": {"value": 0.2}})");
+    ASSERT_FALSE(test::qualifiedNames(readExr(s.albedoAt(1))).count("roughness"));
+    const std::string out = s.dir.file("out/comp.####.exr");
+    const auto r = s.batch(out, "--device cpu --add-channels roughness");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(r.output.find("no roughness channels"), std::string::npos) << r.output;
+    for (int f : kFrames) {
+        const ExrImage result = readExr(FramePattern(out).path(f));
+        std::set<std::string> expected = test::qualifiedNames(readExr(s.albedoAt(f)));
+        expected.insert("roughness");  // the generic profile's spelling
+        ASSERT_EQ(test::qualifiedNames(result), expected) << "frame " << f;
+        const ExrChannel& roughness = channel(result, "roughness");
+        EXPECT_EQ(roughness.type, channel(result, "albedo.R").type);
+        const float fill = addedChannelDefault(Attribute::Roughness);
+        ASSERT_EQ(fill, 0.5f);
+        std::size_t outside = 0, inside = 0, between = 0, wrong = 0;
+        const std::size_t samples = roughness.bytes.size() / io::sampleSize(roughness.type);
+        for (std::size_t i = 0; i < samples; ++i) {
+            const float v = io::sampleAsFloat(roughness, i);
+            if (v == fill)
+                ++outside;
+            else if (std::abs(v - 0.2f) < 1e-4f)
+                ++inside;
+            else if (v > 0.2f && v < 0.5f)
+                ++between;  // the decal's filtered edge
+            else
+                ++wrong;
+        }
+        EXPECT_GT(outside, samples / 2) << "frame " << f;
+        EXPECT_GT(inside, 50u) << "frame " << f;
+        EXPECT_EQ(wrong, 0u) << "frame " << f;
+        // Roughness changed exactly where the albedo did.
+        const ExrChannel& albedo_in = channel(readExr(s.albedoAt(f)), "albedo.R");
+        for (std::size_t i = 0; i < samples; ++i)
+            if (io::sampleAsFloat(roughness, i) != fill) {
+                ASSERT_NE(io::sampleAsFloat(channel(result, "albedo.R"), i), io::sampleAsFloat(albedo_in, i)) << i;
+            }
+    }
+    expectBatchMatchesComposite(
+        s, [&](int f) { return FramePattern(out).path(f); }, "--add-channels roughness");
+}
+
+TEST(BatchFeatures, PreviewPatternWritesOnePngPerFrame) {
+    PassSequence s;
+    const std::string out = s.dir.file("out/comp.####.exr"), preview = s.dir.file("prev/prev.####.png");
+    const auto r = s.batch(out, "--device cpu --preview " + shellQuote(preview));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(filesIn(s.dir.path() / "prev"),
+              (std::set<std::string>{"prev.0001.png", "prev.0002.png", "prev.0003.png"}))
+        << "one preview per frame, no partial files left";
+    std::vector<std::vector<std::uint8_t>> pixels;
+    for (int f : kFrames) {
+        const Png p = readPng(FramePattern(preview).path(f));
+        ASSERT_EQ(p.width, 2 * kWidth + 4) << "before | after with a 4 pixel gap";
+        ASSERT_EQ(p.height, kHeight) << "no normal pass: one row";
+        // The after panel shows the decal the before panel lacks.
+        std::size_t changed = 0;
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x)
+                for (int c = 0; c < 3; ++c)
+                    changed += p.rgb[(std::size_t(y) * p.width + x) * 3 + c] !=
+                               p.rgb[(std::size_t(y) * p.width + x + kWidth + 4) * 3 + c];
+        EXPECT_GT(changed, 50u) << "frame " << f;
+        pixels.push_back(p.rgb);
+    }
+    EXPECT_NE(pixels[0], pixels[2]) << "each frame's own preview (the camera moves)";
+
+    const auto bad =
+        s.batch(s.dir.file("out2/comp.####.exr"), "--device cpu --preview " + shellQuote(s.dir.file("prev.png")));
+    EXPECT_EQ(bad.exit_code, 2) << bad.output;
+    EXPECT_NE(bad.output.find(s.dir.file("prev.png") + ": no frame number in the pattern"), std::string::npos)
+        << bad.output;
+    EXPECT_FALSE(fs::exists(s.dir.file("prev.png")));
+    EXPECT_FALSE(fs::exists(s.dir.file("out2")));
+}
+
+TEST(BatchFeatures, TwoDevicesGiveTheSameBytesAsOne) {
+    PassSequence s;
+    const std::string one = s.dir.file("one/comp.####.exr"), two = s.dir.file("two/comp.####.exr");
+    const auto r1 = s.batch(one, "--device cpu");
+    ASSERT_EQ(r1.exit_code, 0) << r1.output;
+    const auto r2 = s.batch(two, "--device cpu,cpu");
+    ASSERT_EQ(r2.exit_code, 0) << r2.output;
+    for (int f : kFrames) {
+        EXPECT_EQ(test::readFileBytes(FramePattern(one).path(f)), test::readFileBytes(FramePattern(two).path(f)))
+            << "frame " << f;
+        EXPECT_EQ(test::pixelDifference(readExr(FramePattern(one).path(f)), readExr(FramePattern(two).path(f))), "");
+    }
+    const std::string name = selectDevice("cpu").name;
+    EXPECT_NE(r1.output.find("batch: 3 frames on " + name + "; cameras: "), std::string::npos) << r1.output;
+    EXPECT_NE(r2.output.find("batch: 3 frames on " + name + ", " + name + "; cameras: "), std::string::npos)
+        << r2.output;
+
+    for (const std::string bad : {"cpu,", ",cpu", "cpu,,cpu"}) {
+        const std::string out = s.dir.file("bad/comp.####.exr");
+        const auto r = s.batch(out, "--device " + bad);
+        EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.output;
+        EXPECT_NE(r.output.find("--device " + bad + ": empty device in the list"), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(s.dir.file("bad"))) << bad;
+    }
+}
+
+}  // namespace
+}  // namespace decalcomp
