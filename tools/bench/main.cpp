@@ -22,6 +22,7 @@
 #include "decalcomp/device.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/synth.hpp"
+#include "transfers.hpp"
 
 namespace {
 
@@ -83,6 +84,7 @@ struct Options {
     std::string modes = "both";  // both, binned, unbinned
     std::string kind = "box";    // decal kind of every decal
     bool materials = false;      // full texture sets: normal maps and ORM into normal/roughness/metallic
+    bool transfers = true;       // measure the transfer and bandwidth floors per size
 };
 
 Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camera, int decals, bool binned,
@@ -217,6 +219,37 @@ void printHeadline(const std::vector<Result>& results, std::FILE* out) {
         fmt::print(out, "  binned 4096 decals / binned 1 decal = n/a (not run)\n");
 }
 
+// composite() and its kernels against what they must move, per frame size (albedo-only scenes:
+// depth and the (albedo, roughness) float4 group up, the group down; the kernels read both and
+// write the group at most once).
+void printFloors(const std::vector<Result>& results, const FrameSize& size, const bench::TransferRates& t,
+                 std::FILE* out) {
+    const double pixels = double(size.width) * size.height;
+    const double up = pixels * (4 + 16), down = pixels * 16;
+    const double pinned_ms = 1e-6 * (up / t.upload_pinned_gbs + down / t.download_pinned_gbs);
+    const double pageable_ms = 1e-6 * (up / t.upload_pageable_gbs + down / t.download_pageable_gbs);
+    const double kernel_floor_ms = 1e-6 * (pixels * (4 + 16 + 16)) / t.buffer_copy_gbs;
+    fmt::print(out,
+               "\n{}x{} floors: upload {:.1f} GB/s pinned, {:.1f} pageable; download {:.1f} pinned, {:.1f} pageable; "
+               "device copy {:.0f} GB/s buffers, {:.0f} GB/s images (pinned upload into an image {:.1f} GB/s)\n",
+               size.width, size.height, t.upload_pinned_gbs, t.upload_pageable_gbs, t.download_pinned_gbs,
+               t.download_pageable_gbs, t.buffer_copy_gbs, t.image_copy_gbs, t.image_upload_gbs);
+    fmt::print(out, "  planes moved: {:.1f} MB up, {:.1f} MB down = {} ms pinned, {} ms pageable; kernel floor {} ms\n",
+               up * 1e-6, down * 1e-6, ms(pinned_ms), ms(pageable_ms), ms(kernel_floor_ms));
+    for (const Result& r : results) {
+        if (r.skipped || !r.binned || r.size.width != size.width || r.size.height != size.height) continue;
+        fmt::print(out,
+                   "  {:>5} decals binned: composite() {} ms = {:.2f}x pinned floor, {:.2f}x pageable; kernels {} ms = "
+                   "{:.1f}x kernel floor\n",
+                   r.decals, ms(r.wall_ms), r.wall_ms / pinned_ms, r.wall_ms / pageable_ms, ms(r.kernel_ms),
+                   r.kernel_ms / kernel_floor_ms);
+    }
+    const Result* one = find(results, size.width, size.height, 1, true);
+    const Result* many = find(results, size.width, size.height, 4096, true);
+    if (one && many && one->kernel_ms > 0)
+        fmt::print(out, "  binned kernels 4096 decals / 1 decal = {:.2f}x\n", many->kernel_ms / one->kernel_ms);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -242,6 +275,8 @@ int main(int argc, char** argv) {
                  "roughness and metallic planes (default: albedo only)");
     app.add_option("--kind", opt.kind, "decal kind of every decal")
         ->check(CLI::IsMember({"box", "volume", "frustum", "cube"}));
+    bool no_transfers = false;
+    app.add_flag("--no-transfers", no_transfers, "skip measuring the transfer and bandwidth floors");
     bool list = false;
     app.add_flag("--list-devices", list, "list OpenCL devices and exit");
     try {
@@ -256,6 +291,7 @@ int main(int argc, char** argv) {
                 fmt::print("{}: {} ({}, {}, {})\n", d.index, d.name, d.type, d.platform, d.version);
             return 0;
         }
+        opt.transfers = !no_transfers;
         if (opt.quick) {
             if (app.count("--sizes") == 0) opt.sizes = {"480x270"};
             if (app.count("--counts") == 0) opt.counts = {1, 64};
@@ -356,6 +392,12 @@ int main(int argc, char** argv) {
         fmt::print(info, "\n");
         if (!csv_stdout) printTable(results, stdout);
         printHeadline(results, info);
+        if (opt.transfers)
+            for (const FrameSize& size : sizes)
+                printFloors(results, size,
+                            bench::measureTransfers(device, std::size_t(size.width) * std::size_t(size.height) * 16,
+                                                    std::max(3, opt.repeat)),
+                            info);
         return 0;
     } catch (const Error& e) {
         fmt::print(stderr, "decalcomp-bench: {}\n", e.what());
