@@ -55,6 +55,26 @@ inline bool dc_reconstruct(__constant const DcFrame* f, __global const float* de
     return true;
 }
 
+/* The view depth (-z) of pixel (x, y) for the tile ranges, false for background. Planar depth
+ * is the view depth itself, so it needs no unprojection; its validity test is widened by a few
+ * ulps so that no pixel dc_reconstruct keeps is dropped (tile ranges only need to be conservative,
+ * and binning adds its own slack). Other conventions reconstruct the point. */
+inline bool dc_view_depth(__constant const DcFrame* f, __global const float* depth_plane,
+                          __global const float4* position_plane, int x, int y, float* z_out) {
+    if (f->depth_convention == DC_DEPTH_PLANAR && f->has_depth) {
+        const float d = depth_plane[(size_t)y * f->width + x];
+        if (dc_is_background_depth(d)) return false;
+        if (!f->orthographic && !(d >= DC_MIN_VIEW_DEPTH * (1.0f - 1e-5f))) return false;
+        if (f->far_plane > 0.0f && d > f->far_plane * (1.0f + 1e-5f)) return false;
+        *z_out = d;
+        return true;
+    }
+    float3 p;
+    if (!dc_reconstruct(f, depth_plane, position_plane, x, y, &p)) return false;
+    *z_out = -p.z;
+    return true;
+}
+
 /* Footprint of pixel (x, y): where the rays of its right and lower neighbours meet the plane
  * through p with normal n (no neighbour depth is read, so silhouettes cannot disturb it).
  * Returns 0 when a ray runs parallel to the plane or meets it behind the camera. */

@@ -238,7 +238,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         if (s.coarse_capacity == 0) s.coarse_capacity = listCapacity(std::int64_t(coarse) * 4 + std::int64_t(decals) * 4);
         if (s.list_capacity == 0) s.list_capacity = listCapacity(std::int64_t(tiles) * 4 + std::int64_t(decals) * 16);
 
-        // ---- one pass; a second only when a list outgrew its capacity (then grown to fit) ----
+        // ---- one pass; again only when a list outgrew its capacity (then grown to fit) ----
         for (int attempt = 0;; ++attempt) {
             reserve(context, s.coarse_lists, s.coarse_lists_bytes, s.coarse_capacity * sizeof(cl_int));
             reserve(context, s.tile_decals, s.tile_decals_bytes, s.list_capacity * sizeof(cl_int));
@@ -273,12 +273,15 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             const cl::Buffer& position = s.position.device();
             CompositorKernels& k = s.kernels;
             if (binned) {
-                e_tiles = k.tile_bounds(
-                    cl::EnqueueArgs(queue,
-                                    cl::NDRange(std::size_t(params.tiles_x) * DC_TILE_SIZE,
-                                                std::size_t(params.tiles_y) * DC_TILE_SIZE),
-                                    cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE)),
-                    s.frame_buffer, depth, position, s.tile_depth);
+                e_tiles = s.unified
+                              ? k.tile_bounds_serial(
+                                    cl::EnqueueArgs(queue, cl::NDRange(roundUp(tiles, kBinGroupSize))),
+                                    s.frame_buffer, depth, position, s.tile_depth)
+                              : k.tile_bounds(cl::EnqueueArgs(queue,
+                                                              cl::NDRange(std::size_t(params.tiles_x) * DC_TILE_SIZE,
+                                                                          std::size_t(params.tiles_y) * DC_TILE_SIZE),
+                                                              cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE)),
+                                              s.frame_buffer, depth, position, s.tile_depth);
                 e_bounds = k.decal_bounds(
                     cl::EnqueueArgs(queue, cl::NDRange(roundUp(decals, kBinGroupSize)), cl::NDRange(kBinGroupSize)),
                     s.frame_buffer, s.decal_buffer, s.bounds);
@@ -324,8 +327,12 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             });
             CompositorKernels::Shade& shade =
                 k.shade[std::size_t((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0))];
+            // One work-group per screen tile: its work-items walk the same decal list.
             const cl::Event e_shade = shade(
-                cl::EnqueueArgs(queue, cl::NDRange(std::size_t(frame.width), std::size_t(frame.height))),
+                cl::EnqueueArgs(queue,
+                                cl::NDRange(std::size_t(params.tiles_x) * DC_TILE_SIZE,
+                                            std::size_t(params.tiles_y) * DC_TILE_SIZE),
+                                cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE)),
                 s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(), s.surface[2].device(),
                 s.decal_buffer, s.texture_table, s.texels, s.tile_offsets, s.tile_decals, cl_int(binned ? 1 : 0),
                 cl_int(s.list_capacity), s.masks.device(), occlusion_maps);
@@ -336,7 +343,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             queue.finish();
 
             if (binned && (std::size_t(s.totals[0]) > s.coarse_capacity || std::size_t(s.totals[1]) > s.list_capacity)) {
-                if (attempt > 0) throw deviceError("binning: the tile lists outgrew their capacity twice");
+                // A coarse list that overflowed also cut the tile counts short: at most two regrowths.
+                if (attempt >= 2) throw deviceError("binning: the tile lists outgrew their capacity three times");
                 s.coarse_capacity = std::max(s.coarse_capacity, listCapacity(s.totals[0]));
                 s.list_capacity = std::max(s.list_capacity, listCapacity(s.totals[1]));
                 continue;  // the planes are untouched until unpacked: run the frame again

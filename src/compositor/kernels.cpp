@@ -13,6 +13,7 @@ static_assert(DC_VARIANT_ALBEDO_ONLY == 1 && DC_VARIANT_FLAT == 2, "shade[] is i
 
 CompositorKernels::CompositorKernels(const cl::Program& program)
     : tile_bounds(program, "dc_tile_bounds"),
+      tile_bounds_serial(program, "dc_tile_bounds_serial"),
       decal_bounds(program, "dc_decal_bounds"),
       coarse_depth(program, "dc_coarse_depth"),
       coarse_mask(program, "dc_coarse_mask"),

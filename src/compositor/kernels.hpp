@@ -12,8 +12,9 @@ using cl::Buffer;
 struct CompositorKernels {
     explicit CompositorKernels(const cl::Program& program);
 
-    // frame, depth plane, position plane, tile depth ranges
-    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> tile_bounds;
+    // frame, depth plane, position plane, tile depth ranges: a work-group per tile (GPUs), or a
+    // work-item per tile (CPUs, where barriers are slow)
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> tile_bounds, tile_bounds_serial;
     // frame, decals, decal bounds
     cl::KernelFunctor<Buffer, Buffer, Buffer> decal_bounds;
     // frame, tile depth, coarse depth
