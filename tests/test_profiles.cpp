@@ -138,14 +138,14 @@ TEST(Profiles, RenderManCameraSpaceNormalsAreFlagged) {
     const ExrImage image = imageWithChannels({"z", "albedo.r", "albedo.g", "albedo.b", "Nn.x", "Nn.y", "Nn.z"});
     const ChannelMapping m = mapChannels(image, MappingOptions{});
     EXPECT_EQ(m.profile, "renderman");
-    EXPECT_EQ(m.normal_space, "camera");
+    EXPECT_EQ(m.normals.space, NormalSpace::Camera);
     EXPECT_TRUE(hasNote(m, "normal: camera space"));
 
     const ExrImage world = imageWithChannels({"z", "albedo.r", "albedo.g", "albedo.b", "__Nworld.x", "__Nworld.y",
                                               "__Nworld.z", "Nn.x", "Nn.y", "Nn.z"});
     const ChannelMapping w = mapChannels(world, MappingOptions{});
     EXPECT_EQ(mapped(world, w, Attribute::Normal), (Names{"__Nworld.x", "__Nworld.y", "__Nworld.z"}));
-    EXPECT_EQ(w.normal_space, "world");
+    EXPECT_EQ(w.normals.space, NormalSpace::World);
 }
 
 TEST(Profiles, HeaderRulesAddToTheScore) {
@@ -213,7 +213,7 @@ TEST(Profiles, UserProfileFileIsDetectedAndExplained) {
     EXPECT_EQ(mapped(image, m, Attribute::Depth), Names{"main/beauty_depth"});
     EXPECT_EQ(mapped(image, m, Attribute::Albedo),
               (Names{"main/diffuse_rgb.red", "main/diffuse_rgb.green", "main/diffuse_rgb.blue"}));
-    EXPECT_EQ(m.normal_space, "camera");
+    EXPECT_EQ(m.normals.space, NormalSpace::Camera);
     EXPECT_EQ(m.depth_convention, DepthConvention::Radial) << "the profile's default depth convention";
     EXPECT_DOUBLE_EQ(m.candidates.front().score, 4 + 4 + 2 + 3);
     EXPECT_TRUE(hasNote(m, "profile studio from " + file));
@@ -312,7 +312,7 @@ TEST(Profiles, GeneratorNamingsMapToTheSameGBuffer) {
             for (std::size_t i = 0; i < g.pixelCount(); ++i)
                 for (int c = 0; c < want.components; ++c) {
                     float expected_value = want.at(i, c);
-                    if (a == Attribute::Normal && mapping.normal_space == "camera") {  // RenderMan's Nn
+                    if (a == Attribute::Normal && mapping.normals.space == NormalSpace::Camera) {  // RenderMan's Nn
                         const glm::dvec3 n(want.at(i, 0), want.at(i, 1), want.at(i, 2));
                         expected_value = float((glm::dmat3(camera.world_to_camera) * n)[c]);
                         ASSERT_NEAR(have.at(i, c), expected_value, 1e-6) << naming << " pixel " << i;

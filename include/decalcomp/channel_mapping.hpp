@@ -26,8 +26,8 @@ struct MappingOptions {
     std::optional<DepthConvention> depth_convention;  // explicit wins over the profile default
     bool reversed_z = false;
     // --normals SPACE,ENCODING: explicit wins over the profile and the check against the geometry
-    std::optional<std::string> normal_space;     // world | camera
-    std::optional<std::string> normal_encoding;  // signed | unsigned
+    std::optional<NormalSpace> normal_space;
+    std::optional<bool> normal_packed;  // n * 0.5 + 0.5
     // --add-channels ATTR[=VALUE],...: material channels to add when the input lacks them
     std::map<Attribute, float> add_channels;
 };
@@ -54,8 +54,7 @@ struct ChannelMapping {
     DepthConvention depth_convention = DepthConvention::Planar;
     bool depth_convention_explicit = false;  // from --depth, not a default
     bool reversed_z = false;
-    std::string normal_space = "world";      // of the mapped normal channels: world | camera
-    std::string normal_encoding = "signed";  // signed | unsigned (n * 0.5 + 0.5)
+    NormalEncoding normals;                  // of the mapped normal channels
     bool normal_space_explicit = false;      // from --normals, not the profile: the check keeps it
     bool normal_encoding_explicit = false;
 };

@@ -72,34 +72,32 @@ SurfaceLayout surfaceLayout(const GBuffer& frame, const std::array<bool, kDecalT
 void packSurfaceGroup(const GBuffer& frame, const Camera& camera, const SurfaceLayout& layout, int group, float* out) {
     const auto pixels = std::ptrdiff_t(frame.pixelCount());
     const NormalCodec normals(frame.normal_encoding, camera);
-    // Which plane feeds each of the pixel's four floats (nullptr: 0).
-    std::array<const Plane*, 4> source{};
-    std::array<int, 4> component{};
-    const Plane* normal = nullptr;
-    int normal_copy = 0;
+    // One pass per plane, each a plain strided copy into its slots; the first pass writes all four
+    // floats, so unused slots are 0 without a separate fill.
+    bool first_pass = true;
     for (int t = 0; t < kDecalTargets; ++t) {
         const auto target = DecalTarget(t);
         const Slot slot = slotOf(target);
         if (slot.group != group || !(layout.attributes & (1 << t))) continue;
         const Plane& plane = frame.planes.at(targetAttribute(target));
-        const int copy = std::min(componentsOf(target), plane.components);
-        if (target == DecalTarget::Normal) {
-            normal = &plane;
-            normal_copy = copy;
-            continue;
-        }
-        for (int c = 0; c < copy; ++c) {
-            source[std::size_t(slot.first + c)] = &plane;
-            component[std::size_t(slot.first + c)] = c;
-        }
-    }
+        const int stride = plane.components, copy = std::min(componentsOf(target), plane.components);
+        const float* in = plane.samples.data();
+        const bool clear = first_pass;
+        first_pass = false;
+        const bool is_normal = target == DecalTarget::Normal;
 #pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
-    for (std::ptrdiff_t i = 0; i < pixels; ++i) {
-        float* o = out + i * 4;
-        for (int c = 0; c < 4; ++c) o[c] = source[std::size_t(c)] ? source[std::size_t(c)]->at(std::size_t(i), component[std::size_t(c)]) : 0.0f;
-        if (normal) {
-            const glm::vec3 n = normals.toWorld(storedNormal(*normal, std::size_t(i), normal_copy));
-            o[0] = n.x, o[1] = n.y, o[2] = n.z;
+        for (std::ptrdiff_t i = 0; i < pixels; ++i) {
+            float* o = out + i * 4;
+            if (clear) o[0] = o[1] = o[2] = o[3] = 0.0f;
+            const float* p = in + i * stride;
+            if (is_normal) {
+                glm::vec3 stored(0.0f);
+                for (int c = 0; c < copy; ++c) stored[c] = p[c];
+                const glm::vec3 n = normals.toWorld(stored);
+                o[0] = n.x, o[1] = n.y, o[2] = n.z;
+            } else {
+                for (int c = 0; c < copy; ++c) o[slot.first + c] = p[c];
+            }
         }
     }
 }
@@ -134,9 +132,12 @@ void unpackSurfaceGroup(GBuffer& frame, const Camera& camera, const SurfaceLayou
             }
             continue;
         }
+float* p = plane.samples.data();
+        const int stride = plane.components;
+        const float* r = result + slot.first;
 #pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
         for (std::ptrdiff_t i = 0; i < pixels; ++i)
-            for (int c = 0; c < copy; ++c) plane.at(std::size_t(i), c) = result[i * 4 + slot.first + c];
+            for (int c = 0; c < copy; ++c) p[i * stride + c] = r[i * 4 + c];
     }
 }
 

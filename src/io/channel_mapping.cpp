@@ -9,6 +9,7 @@
 
 #include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
+#include "decalcomp/normal_check.hpp"
 #include "decalcomp/exr_file.hpp"
 #include "decalcomp/profiles.hpp"
 
@@ -245,9 +246,10 @@ void recordFound(ChannelMapping& mapping, Attribute attribute, const Found& foun
     mapping.attributes[attribute] = found.refs;
     mapping.notes.push_back(fmt::format("{} <- {} ({})", attributeName(attribute), joined(found.names), how));
     if (attribute == Attribute::Normal && profile) {
-        mapping.normal_space = found.spelling && !found.spelling->space.empty() ? found.spelling->space
-                                                                                : profile->normal_space;
-        mapping.normal_encoding = profile->normal_encoding;
+        const std::string& space =
+            found.spelling && !found.spelling->space.empty() ? found.spelling->space : profile->normal_space;
+        mapping.normals.space = space == "camera" ? NormalSpace::Camera : NormalSpace::World;
+        mapping.normals.packed = profile->normal_encoding == "unsigned";
     }
 }
 
@@ -419,12 +421,14 @@ ChannelMapping mapFiles(const Files& files, const MappingOptions& options, const
     }
     for (const auto& [attribute, pass_file] : roles.pass_files)
         mapPassFile(files, pass_file, attribute, profile, profiles, options, mapping);
-    if (options.normal_space) mapping.normal_space = *options.normal_space;
-    if (options.normal_encoding) mapping.normal_encoding = *options.normal_encoding;
+    if (options.normal_space) mapping.normals.space = *options.normal_space;
+    if (options.normal_packed) mapping.normals.packed = *options.normal_packed;
     mapping.normal_space_explicit = options.normal_space.has_value();
-    mapping.normal_encoding_explicit = options.normal_encoding.has_value();
-    if (mapping.attributes.count(Attribute::Normal) && (mapping.normal_space != "world" || mapping.normal_encoding != "signed"))
-        mapping.notes.push_back(fmt::format("normal: {} space, {}", mapping.normal_space, mapping.normal_encoding));
+    mapping.normal_encoding_explicit = options.normal_packed.has_value();
+    if (mapping.attributes.count(Attribute::Normal) &&
+        (mapping.normals.space != NormalSpace::World || mapping.normals.packed))
+        mapping.notes.push_back(fmt::format("normal: {} space, {}", normalSpaceName(mapping.normals.space),
+                                            mapping.normals.packed ? "unsigned" : "signed"));
     chooseDepthConvention(options, profile, mapping);
     return mapping;
 }

@@ -143,8 +143,7 @@ GBuffer extract(const Files& files, const ChannelMapping& mapping) {
         throw inputError(fmt::format("{}: empty data or display window", window.owner));
     gbuffer.depth_convention = mapping.depth_convention;
     gbuffer.reversed_z = mapping.reversed_z;
-    gbuffer.normal_encoding.space = mapping.normal_space == "camera" ? NormalSpace::Camera : NormalSpace::World;
-    gbuffer.normal_encoding.packed = mapping.normal_encoding == "unsigned";
+    gbuffer.normal_encoding = mapping.normals;
     for (const auto& [attribute, refs] : mapping.attributes)
         gbuffer.planes[attribute] = readOnWindow(files, refs, window.data, fillFor(attribute),
                                                  attribute == Attribute::ObjectId, attributeName(attribute));

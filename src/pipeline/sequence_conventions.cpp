@@ -8,8 +8,7 @@ namespace {
 
 void adoptNormals(GBuffer& gbuffer, ChannelMapping& mapping, const NormalEncoding& encoding) {
     gbuffer.normal_encoding = encoding;
-    mapping.normal_space = normalSpaceName(encoding.space);
-    mapping.normal_encoding = encoding.packed ? "unsigned" : "signed";
+    mapping.normals = encoding;
 }
 
 }  // namespace
@@ -43,7 +42,7 @@ NormalCheck settleNormalEncoding(GBuffer& gbuffer, ChannelMapping& mapping, cons
     const NormalEncoding& current = gbuffer.normal_encoding;
     if (!check.verdict || (check.verdict->space == current.space && check.verdict->packed == current.packed)) return check;
     adoptNormals(gbuffer, mapping, *check.verdict);
-    mapping.notes.push_back(fmt::format("normals: {} space, {} (checked against the depth pass)", mapping.normal_space,
+    mapping.notes.push_back(fmt::format("normals: {} space, {} (checked against the depth pass)", normalSpaceName(mapping.normals.space),
                                         check.verdict->packed ? "packed" : "signed"));
     return check;
 }

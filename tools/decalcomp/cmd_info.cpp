@@ -108,8 +108,8 @@ void printInfo(const InfoFlags& f) {
     std::cout << "depth convention: " << depthConventionName(mapping.depth_convention)
               << (mapping.reversed_z ? " (reversed-z)" : "") << "\n";
     if (mapping.attributes.count(Attribute::Normal))
-        std::cout << "normals: " << mapping.normal_space << " space, "
-                  << (mapping.normal_encoding == "unsigned" ? "packed" : "signed") << "\n";
+        std::cout << "normals: " << normalSpaceName(mapping.normals.space) << " space, "
+                  << (mapping.normals.packed ? "packed" : "signed") << "\n";
 }
 
 }  // namespace

@@ -30,9 +30,9 @@ void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<s
             "--normals",
             [&options](const std::string& value) {
                 const auto comma = value.find(',');
-                options.normal_space = value.substr(0, comma);
+                options.normal_space = value.substr(0, comma) == "camera" ? NormalSpace::Camera : NormalSpace::World;
                 if (comma != std::string::npos)  // without it, the encoding stays the profile's (or checked)
-                    options.normal_encoding = value.substr(comma + 1) == "packed" ? "unsigned" : "signed";
+                    options.normal_packed = value.substr(comma + 1) == "packed";
             },
             "Normal pass space and encoding: world|camera[,signed|packed] (default: the profile's, checked "
             "against the depth pass)")
