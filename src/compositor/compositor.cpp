@@ -327,12 +327,15 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             });
             CompositorKernels::Shade& shade =
                 k.shade[std::size_t((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0))];
-            // One work-group per screen tile: its work-items walk the same decal list.
+            // Binned, one work-group per screen tile: its work-items walk the same decal list.
+            const cl::EnqueueArgs shade_range =
+                binned ? cl::EnqueueArgs(queue,
+                                         cl::NDRange(std::size_t(params.tiles_x) * DC_TILE_SIZE,
+                                                     std::size_t(params.tiles_y) * DC_TILE_SIZE),
+                                         cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE))
+                       : cl::EnqueueArgs(queue, cl::NDRange(std::size_t(frame.width), std::size_t(frame.height)));
             const cl::Event e_shade = shade(
-                cl::EnqueueArgs(queue,
-                                cl::NDRange(std::size_t(params.tiles_x) * DC_TILE_SIZE,
-                                            std::size_t(params.tiles_y) * DC_TILE_SIZE),
-                                cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE)),
+                shade_range,
                 s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(), s.surface[2].device(),
                 s.decal_buffer, s.texture_table, s.texels, s.tile_offsets, s.tile_decals, cl_int(binned ? 1 : 0),
                 cl_int(s.list_capacity), s.masks.device(), occlusion_maps);
