@@ -41,6 +41,26 @@ __kernel void dc_tile_bounds_serial(__constant const DcFrame* frame, __global co
     const int x0 = (tile % frame->tiles_x) * DC_TILE_SIZE, y0 = (tile / frame->tiles_x) * DC_TILE_SIZE;
     const int x1 = min(x0 + DC_TILE_SIZE, frame->width), y1 = min(y0 + DC_TILE_SIZE, frame->height);
     float lo = MAXFLOAT, hi = -MAXFLOAT;
+    if (frame->depth_convention == DC_DEPTH_PLANAR && frame->has_depth && x1 - x0 == DC_TILE_SIZE) {
+        /* planar depth, a whole tile row at a time (the test of dc_view_depth, vectorised) */
+        const float near_limit = frame->orthographic ? -MAXFLOAT : DC_MIN_VIEW_DEPTH * (1.0f - 1e-5f);
+        const float far_limit = frame->far_plane > 0.0f ? frame->far_plane * (1.0f + 1e-5f) : MAXFLOAT;
+        const float16 lo_limit = (float16)(fmax(near_limit, 0.0f)), hi_limit = (float16)(fmin(far_limit, DC_BACKGROUND_DEPTH));
+        float16 lo16 = (float16)(MAXFLOAT), hi16 = (float16)(-MAXFLOAT);
+        for (int y = y0; y < y1; ++y) {
+            const float16 d = vload16(0, depth_plane + (size_t)y * frame->width + x0);
+            /* valid: d > 0, d >= the near limit, finite, below the background depth and the far limit */
+            const int16 valid = (d > (float16)(0.0f)) & (d >= lo_limit) & (d < (float16)(DC_BACKGROUND_DEPTH)) &
+                                (d <= hi_limit) & isfinite(d);
+            lo16 = select(lo16, fmin(lo16, d), valid);
+            hi16 = select(hi16, fmax(hi16, d), valid);
+        }
+        float8 l8 = fmin(lo16.lo, lo16.hi), h8 = fmax(hi16.lo, hi16.hi);
+        float4 l4 = fmin(l8.lo, l8.hi), h4 = fmax(h8.lo, h8.hi);
+        float2 l2 = fmin(l4.lo, l4.hi), h2 = fmax(h4.lo, h4.hi);
+        tile_depth[tile] = (float2)(fmin(l2.x, l2.y), fmax(h2.x, h2.y));
+        return;
+    }
     for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) {
             float z;
