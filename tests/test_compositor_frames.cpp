@@ -3,7 +3,9 @@
 // and in-place shading that leaves untouched pixels bit for bit.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -109,6 +111,26 @@ TEST(CompositorFrames, UntouchedPixelsKeepTheirBits) {
     for (std::size_t i = 0; i < result.samples.size(); ++i)
         if (std::memcmp(&result.samples[i], &albedo.samples[i], sizeof(float)) != 0) ++changed;
     EXPECT_GT(changed, 0u);
+}
+
+// Pinned staging in runs of rows (what a GPU gets) and mapped buffers (PoCL's default) give the
+// same bits, for depth and for position-pass frames large enough to be sent in several runs.
+TEST(CompositorFrames, PinnedRunsAndMappedBuffersAgree) {
+    for (DepthConvention convention : {DepthConvention::Planar, DepthConvention::Position}) {
+        SynthFrame f = renderFrame(1280, 840);  // over 2^20 pixels: 8 runs
+        f.gbuffer.depth_convention = convention;
+        const DecalScene scene = scatter(f, 200, 0.3, 1.5, 11);
+        std::array<GBuffer, 2> results;
+        int k = 0;
+        for (const char* staging : {"pinned", "mapped"}) {
+            ::setenv("DECALCOMP_STAGING", staging, 1);
+            results[std::size_t(k++)] = compositeOnce(scene, f, true);
+        }
+        ::unsetenv("DECALCOMP_STAGING");
+        EXPECT_TRUE(sameBits(results[0].planes.at(Attribute::Albedo), results[1].planes.at(Attribute::Albedo)))
+            << depthConventionName(convention);
+        EXPECT_FALSE(sameBits(results[0].planes.at(Attribute::Albedo), f.gbuffer.planes.at(Attribute::Albedo)));
+    }
 }
 
 }  // namespace

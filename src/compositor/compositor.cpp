@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <climits>
+#include <cstdlib>
+#include <string>
 #include <cstring>
 
 #include "compositor/kernel_params.hpp"
@@ -44,24 +46,33 @@ cl::Buffer makeBuffer(cl::Context& context, const std::vector<T>& data) {
                       const_cast<T*>(data.data()));
 }
 
-// Copies spread over the host's cores: packing is pure memory traffic.
-void parallelCopy(float* out, const float* in, std::size_t count) {
-    const auto blocks = std::ptrdiff_t((count + (1 << 16) - 1) >> 16);
+// Copies of floats [first, last) spread over the host's cores: packing is pure memory traffic.
+void parallelCopy(float* out, const float* in, PixelRange range) {
+    constexpr std::size_t kBlock = 1 << 16;
+    const auto blocks = std::ptrdiff_t((range.last - range.first + kBlock - 1) / kBlock);
 #pragma omp parallel for schedule(static) if (blocks > 1)
     for (std::ptrdiff_t b = 0; b < blocks; ++b) {
-        const std::size_t first = std::size_t(b) << 16, n = std::min<std::size_t>(count - first, 1 << 16);
+        const std::size_t first = range.first + std::size_t(b) * kBlock, n = std::min(range.last - first, kBlock);
         std::memcpy(out + first, in + first, n * sizeof(float));
     }
 }
 
-// The position plane (3 or more components) as float4 per pixel.
-void packPosition(const Plane& plane, std::size_t pixels, float* out) {
+// Pixels `range` of the position plane (3 or more components) as float4 per pixel.
+void packPosition(const Plane& plane, PixelRange range, float* out) {
     const int copy = std::min(plane.components, 3);
-#pragma omp parallel for schedule(static) if (pixels >= (1u << 16))
-    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(pixels); ++i) {
+#pragma omp parallel for schedule(static) if (range.last - range.first >= (1u << 16))
+    for (std::ptrdiff_t i = std::ptrdiff_t(range.first); i < std::ptrdiff_t(range.last); ++i) {
         float* o = out + i * 4;
         for (int c = 0; c < 4; ++c) o[c] = c < copy ? plane.at(std::size_t(i), c) : 0.0f;
     }
+}
+
+// Frames cross to and from a discrete device in this many runs of rows, so the DMA of one run
+// overlaps the packing (or unpacking) of the next. Devices that map host memory copy nothing.
+int transferChunks(std::size_t pixels, bool unified) { return unified || pixels < (1u << 20) ? 1 : 8; }
+
+PixelRange chunkRange(std::size_t pixels, int chunk, int chunks) {
+    return {pixels * std::size_t(chunk) / std::size_t(chunks), pixels * std::size_t(chunk + 1) / std::size_t(chunks)};
 }
 
 // Room for `needed` list entries with headroom, as the kernels' int capacity.
@@ -88,6 +99,7 @@ struct Compositor::State {
     CompositorKernels kernels;
     cl::CommandQueue queue;  // this compositor's own, so two compositors on a device overlap
     bool unified = false;    // the device works in host memory (PoCL): buffers are mapped, not copied
+    bool cpu = false;        // a CPU device: tile bounds without work-group barriers
     bool profiling = true;
     cl::Buffer texture_table, texels;
     std::size_t mask_count = 0;
@@ -124,6 +136,12 @@ Compositor::Compositor(ComputeDevice& device) : device_(device) {
         s.queue = cl::CommandQueue(device_.context(), device_.info().device,
                                    s.profiling ? CL_QUEUE_PROFILING_ENABLE : cl_command_queue_properties(0));
         s.unified = device_.info().device.getInfo<CL_DEVICE_HOST_UNIFIED_MEMORY>() == CL_TRUE;
+        s.cpu = (device_.info().device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0;
+        // DECALCOMP_STAGING=pinned|mapped overrides the choice (tests run the pinned path on PoCL)
+        if (const char* staging = std::getenv("DECALCOMP_STAGING")) {
+            if (std::string(staging) == "pinned") s.unified = false;
+            else if (std::string(staging) == "mapped") s.unified = true;
+        }
         s.frame_buffer = cl::Buffer(device_.context(), CL_MEM_READ_ONLY, sizeof(cl_types::DcFrame));
         s.totals_buffer = cl::Buffer(device_.context(), CL_MEM_READ_WRITE, 2 * sizeof(cl_int));
     } catch (const cl::Error& e) {
@@ -245,36 +263,51 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             queue.enqueueWriteBuffer(s.frame_buffer, CL_FALSE, 0, sizeof(params), &params);
             queue.enqueueWriteBuffer(s.decal_buffer, CL_FALSE, 0, decals * sizeof(cl_types::DcDecal),
                                      s.decal_params.data());
-            // Planes go from the G-buffer straight into the device's staging memory.
-            if (frame.has(Attribute::Depth)) {
-                auto* out = static_cast<float*>(s.depth.beginUpload(queue));
-                parallelCopy(out, frame.planes.at(Attribute::Depth).samples.data(), pixels);
-                s.depth.upload(queue, pixels * sizeof(float));
+            // Planes go from the G-buffer straight into the device's staging memory, run by run.
+            const int runs = transferChunks(pixels, s.unified);
+            const bool has_depth = frame.has(Attribute::Depth);
+            float* depth_view = has_depth ? static_cast<float*>(s.depth.beginUpload(queue)) : nullptr;
+            float* position_view = uses_position ? static_cast<float*>(s.position.beginUpload(queue)) : nullptr;
+            std::array<float*, kSurfaceGroups> group_view{};
+            for (int g = 0; g < kSurfaceGroups; ++g)
+                if (surface.used[std::size_t(g)])
+                    group_view[std::size_t(g)] = static_cast<float*>(s.surface[std::size_t(g)].beginUpload(queue));
+            for (int c = 0; c < runs; ++c) {
+                const PixelRange r = chunkRange(pixels, c, runs);
+                const std::size_t n = r.last - r.first;
+                if (has_depth) {
+                    parallelCopy(depth_view, frame.planes.at(Attribute::Depth).samples.data(), r);
+                    s.depth.uploadRange(queue, r.first * sizeof(float), n * sizeof(float));
+                }
+                if (uses_position) {
+                    packPosition(frame.planes.at(Attribute::Position), r, position_view);
+                    s.position.uploadRange(queue, r.first * sizeof(cl_float4), n * sizeof(cl_float4));
+                }
+                for (int g = 0; g < kSurfaceGroups; ++g) {
+                    if (!group_view[std::size_t(g)]) continue;
+                    packSurfaceGroup(frame, camera, surface, g, r, group_view[std::size_t(g)]);
+                    s.surface[std::size_t(g)].uploadRange(queue, r.first * sizeof(cl_float4), n * sizeof(cl_float4));
+                }
+                queue.flush();  // start this run's copies while the next is packed
             }
-            if (uses_position) {
-                packPosition(frame.planes.at(Attribute::Position), pixels, static_cast<float*>(s.position.beginUpload(queue)));
-                s.position.upload(queue, pixels * sizeof(cl_float4));
-            }
-            for (int g = 0; g < kSurfaceGroups; ++g) {
-                if (!surface.used[std::size_t(g)]) continue;
-                StagedBuffer& group = s.surface[std::size_t(g)];
-                packSurfaceGroup(frame, camera, surface, g, static_cast<float*>(group.beginUpload(queue)));
-                group.upload(queue, pixels * sizeof(cl_float4));
-            }
+            s.depth.finishUpload(queue);
+            s.position.finishUpload(queue);
+            for (StagedBuffer& group : s.surface) group.finishUpload(queue);
             if (s.mask_count > 0) {
                 auto* out = static_cast<float*>(s.masks.beginUpload(queue));
                 for (std::size_t m = 0; m < s.mask_count; ++m)
-                    parallelCopy(out + m * pixels, frame.mask_weights[m].samples.data(), pixels);
-                s.masks.upload(queue, s.mask_count * pixels * sizeof(float));
+                    parallelCopy(out + m * pixels, frame.mask_weights[m].samples.data(), {0, pixels});
+                s.masks.uploadRange(queue, 0, s.mask_count * pixels * sizeof(float));
+                s.masks.finishUpload(queue);
             }
 
+            cl::Event totals_read;
             cl::Event e_tiles, e_bounds, e_cdepth, e_cmask, e_ccount, e_cscan, e_cfill, e_count, e_scan, e_fill;
             const cl::Buffer& depth = s.depth.device();
             const cl::Buffer& position = s.position.device();
             CompositorKernels& k = s.kernels;
             if (binned) {
-                e_tiles = s.unified
-                              ? k.tile_bounds_serial(
+                e_tiles = s.cpu ? k.tile_bounds_serial(
                                     cl::EnqueueArgs(queue, cl::NDRange(roundUp(tiles, kBinGroupSize))),
                                     s.frame_buffer, depth, position, s.tile_depth)
                               : k.tile_bounds(cl::EnqueueArgs(queue,
@@ -311,7 +344,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 queue.enqueueCopyBuffer(s.coarse_offsets, s.totals_buffer, coarse * sizeof(cl_int), 0, sizeof(cl_int));
                 queue.enqueueCopyBuffer(s.tile_offsets, s.totals_buffer, tiles * sizeof(cl_int), sizeof(cl_int),
                                         sizeof(cl_int));
-                queue.enqueueReadBuffer(s.totals_buffer, CL_FALSE, 0, sizeof(s.totals), s.totals.data());
+                queue.enqueueReadBuffer(s.totals_buffer, CL_FALSE, 0, sizeof(s.totals), s.totals.data(), nullptr,
+                                        &totals_read);
             }
 
             cl::Event e_occlusion;
@@ -339,27 +373,40 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(), s.surface[2].device(),
                 s.decal_buffer, s.texture_table, s.texels, s.tile_offsets, s.tile_decals, cl_int(binned ? 1 : 0),
                 cl_int(s.list_capacity), s.masks.device(), occlusion_maps);
-            // Only the groups that hold a changed attribute come back.
-            for (int g = 0; g < kSurfaceGroups; ++g)
-                if (groupWrittenBack(surface, s.targets, g))
-                    s.surface[std::size_t(g)].enqueueDownload(queue, pixels * sizeof(cl_float4));
-            queue.finish();
-
+            // Only the groups that hold a changed attribute come back, run by run, each unpacked
+            // while the next is still on its way.
+            std::vector<std::array<cl::Event, kSurfaceGroups>> downloaded(static_cast<std::size_t>(runs));
+            for (int c = 0; c < runs; ++c) {
+                const PixelRange r = chunkRange(pixels, c, runs);
+                for (int g = 0; g < kSurfaceGroups; ++g)
+                    if (groupWrittenBack(surface, s.targets, g))
+                        s.surface[std::size_t(g)].enqueueDownload(queue, r.first * sizeof(cl_float4),
+                                                                  (r.last - r.first) * sizeof(cl_float4),
+                                                                  &downloaded[std::size_t(c)][std::size_t(g)]);
+            }
+            queue.flush();
+            if (binned) totals_read.wait();  // the binning's totals are back long before the planes
             if (binned && (std::size_t(s.totals[0]) > s.coarse_capacity || std::size_t(s.totals[1]) > s.list_capacity)) {
+                queue.finish();
                 // A coarse list that overflowed also cut the tile counts short: at most two regrowths.
                 if (attempt >= 2) throw deviceError("binning: the tile lists outgrew their capacity three times");
                 s.coarse_capacity = std::max(s.coarse_capacity, listCapacity(s.totals[0]));
                 s.list_capacity = std::max(s.list_capacity, listCapacity(s.totals[1]));
                 continue;  // the planes are untouched until unpacked: run the frame again
             }
+            if (s.unified) queue.finish();  // the mapped buffers are read once the kernels are done
             for (int g = 0; g < kSurfaceGroups; ++g) {
                 if (!groupWrittenBack(surface, s.targets, g)) continue;
                 StagedBuffer& group = s.surface[std::size_t(g)];
-                unpackSurfaceGroup(frame, camera, surface, g,
-                                   static_cast<const float*>(group.beginDownload(queue, pixels * sizeof(cl_float4))),
-                                   s.targets);
+                const auto* result = static_cast<const float*>(group.beginDownload(queue, pixels * sizeof(cl_float4)));
+                for (int c = 0; c < runs; ++c) {
+                    cl::Event& done = downloaded[std::size_t(c)][std::size_t(g)];
+                    if (done()) done.wait();
+                    unpackSurfaceGroup(frame, camera, surface, g, chunkRange(pixels, c, runs), result, s.targets);
+                }
                 group.endDownload(queue);
             }
+            queue.finish();
             if (s.profiling) {
                 stats.shading_ms = eventMs(e_shade);
                 if (!occlusion.occluders.empty()) stats.occlusion_ms = eventMs(e_occlusion);

@@ -28,17 +28,20 @@ void* StagedBuffer::beginUpload(cl::CommandQueue& queue) {
     return view_;
 }
 
-void StagedBuffer::upload(cl::CommandQueue& queue, std::size_t bytes) {
-    if (unified_) {
-        queue.enqueueUnmapMemObject(device_, view_);
-        view_ = nullptr;
-        return;
-    }
-    queue.enqueueWriteBuffer(device_, CL_FALSE, 0, bytes, view_);
+void StagedBuffer::uploadRange(cl::CommandQueue& queue, std::size_t offset, std::size_t bytes) {
+    if (!unified_ && bytes > 0)
+        queue.enqueueWriteBuffer(device_, CL_FALSE, offset, bytes, static_cast<char*>(view_) + offset);
 }
 
-void StagedBuffer::enqueueDownload(cl::CommandQueue& queue, std::size_t bytes) {
-    if (!unified_) queue.enqueueReadBuffer(device_, CL_FALSE, 0, bytes, view_);
+void StagedBuffer::finishUpload(cl::CommandQueue& queue) {
+    if (!unified_ || !view_) return;
+    queue.enqueueUnmapMemObject(device_, view_);
+    view_ = nullptr;
+}
+
+void StagedBuffer::enqueueDownload(cl::CommandQueue& queue, std::size_t offset, std::size_t bytes, cl::Event* done) {
+    if (!unified_ && bytes > 0)
+        queue.enqueueReadBuffer(device_, CL_FALSE, offset, bytes, static_cast<char*>(view_) + offset, nullptr, done);
 }
 
 const void* StagedBuffer::beginDownload(cl::CommandQueue& queue, std::size_t bytes) {

@@ -14,13 +14,16 @@ public:
     // Grows to at least `bytes` (never shrinks); contents are undefined after a growth.
     void reserve(cl::Context& context, cl::CommandQueue& queue, std::size_t bytes, bool unified);
 
-    // The host view to fill; upload() sends `bytes` of it to the device (asynchronous on a
-    // discrete device: the view must stay untouched until the queue has passed the copy).
+    // The host view to fill. uploadRange() sends a filled range to the device without waiting
+    // (discrete devices: the DMA of one range runs while the next is filled; the view must stay
+    // untouched until the queue has passed the copy); finishUpload() ends the filling.
     void* beginUpload(cl::CommandQueue& queue);
-    void upload(cl::CommandQueue& queue, std::size_t bytes);
-    // Enqueues the device-to-host copy of `bytes` without waiting (discrete devices); view()
-    // holds them once the queue has finished.
-    void enqueueDownload(cl::CommandQueue& queue, std::size_t bytes);
+    void uploadRange(cl::CommandQueue& queue, std::size_t offset, std::size_t bytes);
+    void finishUpload(cl::CommandQueue& queue);
+    // Enqueues the device-to-host copy of a range without waiting (discrete devices; `done` is
+    // set to its event); the view holds it once the event completed.
+    void enqueueDownload(cl::CommandQueue& queue, std::size_t offset, std::size_t bytes, cl::Event* done);
+    bool unified() const { return unified_; }
     // The downloaded view, after the queue finished (maps the buffer on unified devices);
     // endDownload() gives it back to the device.
     const void* beginDownload(cl::CommandQueue& queue, std::size_t bytes);

@@ -69,8 +69,9 @@ SurfaceLayout surfaceLayout(const GBuffer& frame, const std::array<bool, kDecalT
     return layout;
 }
 
-void packSurfaceGroup(const GBuffer& frame, const Camera& camera, const SurfaceLayout& layout, int group, float* out) {
-    const auto pixels = std::ptrdiff_t(frame.pixelCount());
+void packSurfaceGroup(const GBuffer& frame, const Camera& camera, const SurfaceLayout& layout, int group,
+                      PixelRange range, float* out) {
+    const auto first = std::ptrdiff_t(range.first), last = std::ptrdiff_t(range.last);
     const NormalCodec normals(frame.normal_encoding, camera);
     // One pass per plane, each a plain strided copy into its slots; the first pass writes all four
     // floats, so unused slots are 0 without a separate fill.
@@ -85,8 +86,8 @@ void packSurfaceGroup(const GBuffer& frame, const Camera& camera, const SurfaceL
         const bool clear = first_pass;
         first_pass = false;
         const bool is_normal = target == DecalTarget::Normal;
-#pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
-        for (std::ptrdiff_t i = 0; i < pixels; ++i) {
+#pragma omp parallel for schedule(static) if (last - first >= kParallelPixels)
+        for (std::ptrdiff_t i = first; i < last; ++i) {
             float* o = out + i * 4;
             if (clear) o[0] = o[1] = o[2] = o[3] = 0.0f;
             const float* p = in + i * stride;
@@ -111,8 +112,8 @@ bool groupWrittenBack(const SurfaceLayout& layout, const std::array<bool, kDecal
 }
 
 void unpackSurfaceGroup(GBuffer& frame, const Camera& camera, const SurfaceLayout& layout, int group,
-                        const float* result, const std::array<bool, kDecalTargets>& targets) {
-    const auto pixels = std::ptrdiff_t(frame.pixelCount());
+                        PixelRange range, const float* result, const std::array<bool, kDecalTargets>& targets) {
+    const auto first = std::ptrdiff_t(range.first), last = std::ptrdiff_t(range.last);
     const NormalCodec normals(frame.normal_encoding, camera);
     for (int t = 0; t < kDecalTargets; ++t) {
         const auto target = DecalTarget(t);
@@ -122,8 +123,8 @@ void unpackSurfaceGroup(GBuffer& frame, const Camera& camera, const SurfaceLayou
         Plane& plane = frame.planes.at(targetAttribute(target));
         const int copy = std::min(componentsOf(target), plane.components);
         if (target == DecalTarget::Normal) {
-#pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
-            for (std::ptrdiff_t i = 0; i < pixels; ++i) {
+#pragma omp parallel for schedule(static) if (last - first >= kParallelPixels)
+            for (std::ptrdiff_t i = first; i < last; ++i) {
                 const float* r = result + i * 4;
                 const glm::vec3 before = normals.toWorld(storedNormal(plane, std::size_t(i), copy));
                 if (sameBits(r[0], before.x) && sameBits(r[1], before.y) && sameBits(r[2], before.z)) continue;
@@ -135,8 +136,8 @@ void unpackSurfaceGroup(GBuffer& frame, const Camera& camera, const SurfaceLayou
 float* p = plane.samples.data();
         const int stride = plane.components;
         const float* r = result + slot.first;
-#pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
-        for (std::ptrdiff_t i = 0; i < pixels; ++i)
+#pragma omp parallel for schedule(static) if (last - first >= kParallelPixels)
+        for (std::ptrdiff_t i = first; i < last; ++i)
             for (int c = 0; c < copy; ++c) p[i * stride + c] = r[i * 4 + c];
     }
 }

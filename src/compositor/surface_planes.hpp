@@ -24,18 +24,25 @@ struct SurfaceLayout {
 // fades and footprints).
 SurfaceLayout surfaceLayout(const GBuffer& frame, const std::array<bool, kDecalTargets>& targets, bool with_normals);
 
-// Fills group `group` (pixels x 4 floats at `out`) from the frame's planes; normals are decoded
-// from the frame's space and encoding to world space. Unused slots are 0.
-void packSurfaceGroup(const GBuffer& frame, const Camera& camera, const SurfaceLayout& layout, int group, float* out);
+// A run of pixels [first, last) of the frame, so packing and copying can overlap.
+struct PixelRange {
+    std::size_t first = 0, last = 0;
+};
+
+// Fills pixels `range` of group `group` (4 floats per pixel at `out`, indexed from pixel 0) from
+// the frame's planes; normals are decoded from the frame's space and encoding to world space.
+// Unused slots are 0.
+void packSurfaceGroup(const GBuffer& frame, const Camera& camera, const SurfaceLayout& layout, int group,
+                      PixelRange range, float* out);
 
 // Whether group g holds a plane unpackSurfaceGroup writes back (the albedo, or a target some
 // decal changes); groups uploaded only to be read (normals for fades) need no read-back.
 bool groupWrittenBack(const SurfaceLayout& layout, const std::array<bool, kDecalTargets>& targets, int group);
 
-// Writes the kernel's results for group `group` back into the frame's planes, for the targets
+// Writes the kernel's results for pixels `range` of group `group` back into the frame's planes, for the targets
 // in `targets`. Pixels whose normal came back as it was packed keep their original samples bit for
 // bit; changed normals are encoded back into the frame's space and encoding.
 void unpackSurfaceGroup(GBuffer& frame, const Camera& camera, const SurfaceLayout& layout, int group,
-                        const float* result, const std::array<bool, kDecalTargets>& targets);
+                        PixelRange range, const float* result, const std::array<bool, kDecalTargets>& targets);
 
 }  // namespace decalcomp
