@@ -135,6 +135,7 @@ struct Decal {
 };
 
 struct DecalScene {
+    std::string source;  // the scene file it was loaded from ("" when built in code)
     std::vector<Texture2D> textures;
     std::vector<Decal> decals;  // in blend order
     std::vector<DecalMask> masks;  // distinct masks the decals refer to

@@ -45,8 +45,21 @@ bool isOutputFolder(const std::string& path);
 std::vector<std::string> missingAttributeWarnings(const std::vector<Attribute>& attributes, const ChannelMapping& mapping,
                                                   const std::string& input);
 
-// Refuses (Error(Usage)) to write over the input unless allowed.
-void checkNotOverwritingInput(const std::string& input, const std::string& output, bool allowed);
+// Whether two paths name one file: by inode when both exist (symlinks and hard links count),
+// else by their absolute, normalised paths.
+bool sameFile(const std::string& a, const std::string& b);
+
+// What one run writes and reads, checked before any work: no output may be a file the run reads
+// or another output. EXR inputs may be replaced only with `overwrite_inputs` (--overwrite-input);
+// the other files read (scene, camera, profiles, textures) never. EXR outputs need an .exr name.
+// Throws Error(Usage) naming both files.
+struct RunFiles {
+    std::vector<std::string> exr_outputs;
+    std::string preview;                   // "" when none
+    std::vector<std::string> exr_inputs;   // positional and --pass files
+    std::vector<std::string> other_reads;  // scene, camera sidecar, profiles, textures
+};
+void checkRunFiles(const RunFiles& files, bool overwrite_inputs);
 
 // Writes every image to a temporary beside its path, and the preview
 // through `write_preview` when `preview` is given, then renames them all into place; on any failure

@@ -44,13 +44,14 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
     report_.warnings =
         missingAttributeWarnings(attributes_, mapping, options_.label.empty() ? input : options_.label);
     outputs_ = outputPaths(files_, mapping, attributes_, targets_.output);
-    for (const auto& [file, path] : outputs_) {
-        for (const ExrImage& image : files_) checkNotOverwritingInput(image.path, path, targets_.overwrite_input);
-        if (!targets_.preview.empty() && fs::path(targets_.preview) == fs::path(path))
-            throw Error(ErrorKind::Usage, fmt::format("{}: the preview would replace the output", targets_.preview));
-    }
-    for (const ExrImage& image : files_)
-        if (!targets_.preview.empty()) checkNotOverwritingInput(image.path, targets_.preview, false);
+    RunFiles run;
+    for (const auto& [file, path] : outputs_) run.exr_outputs.push_back(path);
+    run.preview = targets_.preview;
+    for (const ExrImage& image : files_) run.exr_inputs.push_back(image.path);
+    run.other_reads = {scene.source, sources_.camera_json};
+    for (const std::string& profile : options_.mapping.profile_files) run.other_reads.push_back(profile);
+    for (const Texture2D& texture : scene.textures) run.other_reads.push_back(texture.source);
+    checkRunFiles(run, targets_.overwrite_input);
 
     if (decals_.empty() && targets_.preview.empty()) {  // nothing alive on this frame: written as read
         prepared_ = true;

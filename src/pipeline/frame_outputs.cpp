@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <cctype>
 #include <filesystem>
 #include <set>
 
@@ -51,11 +52,46 @@ std::map<int, std::string> outputPaths(const std::vector<ExrImage>& files, const
     return paths;
 }
 
-void checkNotOverwritingInput(const std::string& input, const std::string& output, bool allowed) {
+bool sameFile(const std::string& a, const std::string& b) {
     std::error_code ec;
-    const bool same = fs::exists(output, ec) && fs::equivalent(input, output, ec);
-    if (same && !allowed)
-        throw Error(ErrorKind::Usage, fmt::format("{}: output is the input file; pass --overwrite-input to replace it", output));
+    if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+    const fs::path pa = fs::absolute(a, ec).lexically_normal(), pb = fs::absolute(b, ec).lexically_normal();
+    return pa == pb;
+}
+
+namespace {
+
+bool hasExrExtension(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".exr";
+}
+
+}  // namespace
+
+void checkRunFiles(const RunFiles& files, bool overwrite_inputs) {
+    for (const std::string& output : files.exr_outputs)
+        if (!hasExrExtension(output))
+            throw Error(ErrorKind::Usage, fmt::format("{}: the output is written as OpenEXR; give it an .exr name", output));
+    std::vector<std::pair<std::string, std::string>> outputs;  // path, what it is
+    for (const std::string& output : files.exr_outputs) outputs.emplace_back(output, "output");
+    if (!files.preview.empty()) outputs.emplace_back(files.preview, "preview");
+    for (std::size_t i = 0; i < outputs.size(); ++i) {
+        const auto& [path, what] = outputs[i];
+        for (std::size_t j = 0; j < i; ++j)
+            if (sameFile(path, outputs[j].first))
+                throw Error(ErrorKind::Usage, fmt::format("{}: the {} would replace the {} {}", path, what,
+                                                          outputs[j].second, outputs[j].first));
+        for (const std::string& input : files.exr_inputs)
+            if (sameFile(path, input) && (what == "preview" || !overwrite_inputs))
+                throw Error(ErrorKind::Usage,
+                            fmt::format("{}: the {} would replace the input {}{}", path, what, input,
+                                        what == "preview" ? "" : "; pass --overwrite-input to replace it"));
+        for (const std::string& read : files.other_reads)
+            if (!read.empty() && sameFile(path, read))
+                throw Error(ErrorKind::Usage, fmt::format("{}: the {} would replace {}, which this run reads", path,
+                                                          what, read));
+    }
 }
 
 void writeOutputsTogether(const std::vector<PendingOutput>& outputs, const std::string* preview,

@@ -408,6 +408,10 @@ private:
 
 }  // namespace
 
-DecalScene loadScene(const std::string& path) { return SceneParser(path).load(); }
+DecalScene loadScene(const std::string& path) {
+    DecalScene scene = SceneParser(path).load();
+    scene.source = path;
+    return scene;
+}
 
 }  // namespace decalcomp
