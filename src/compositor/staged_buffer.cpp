@@ -4,11 +4,22 @@
 
 namespace decalcomp {
 
+StagedBuffer::~StagedBuffer() {
+    if (!view_) return;
+    try {
+        queue_.enqueueUnmapMemObject(unified_ ? device_ : host_, view_);
+        queue_.finish();
+    } catch (const cl::Error&) {
+        // the context is going away with the buffers; nothing left to give back
+    }
+}
+
 void StagedBuffer::reserve(cl::Context& context, cl::CommandQueue& queue, std::size_t bytes, bool unified) {
     bytes = std::max<std::size_t>(bytes, 16);  // OpenCL refuses empty buffers
     if (bytes <= capacity_ && unified == unified_) return;
-    if (view_ && !unified_) queue.enqueueUnmapMemObject(host_, view_);
+    if (view_) queue.enqueueUnmapMemObject(unified_ ? device_ : host_, view_);
     view_ = nullptr;
+    queue_ = queue;
     unified_ = unified;
     capacity_ = bytes;
     if (unified) {

@@ -11,6 +11,11 @@ namespace decalcomp {
 
 class StagedBuffer {
 public:
+    StagedBuffer() = default;
+    ~StagedBuffer();  // gives the mapping back
+    StagedBuffer(const StagedBuffer&) = delete;
+    StagedBuffer& operator=(const StagedBuffer&) = delete;
+
     // Grows to at least `bytes` (never shrinks); contents are undefined after a growth.
     void reserve(cl::Context& context, cl::CommandQueue& queue, std::size_t bytes, bool unified);
 
@@ -34,6 +39,7 @@ public:
 
 private:
     cl::Buffer device_, host_;
+    cl::CommandQueue queue_;      // the queue that mapped view_
     void* view_ = nullptr;        // pinned host memory (discrete) or the current mapping (unified)
     std::size_t capacity_ = 0;
     bool unified_ = false;
