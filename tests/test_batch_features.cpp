@@ -187,7 +187,8 @@ TEST(BatchFeatures, AddChannelsGivesEveryFrameARoughnessChannelLikeComposite) {
         EXPECT_GT(inside, 50u) << "frame " << f;
         EXPECT_EQ(wrong, 0u) << "frame " << f;
         // Roughness changed exactly where the albedo did.
-        const ExrChannel& albedo_in = channel(readExr(s.albedoAt(f)), "albedo.R");
+        const ExrImage input = readExr(s.albedoAt(f));  // kept: the channel refers into it
+        const ExrChannel& albedo_in = channel(input, "albedo.R");
         for (std::size_t i = 0; i < samples; ++i)
             if (io::sampleAsFloat(roughness, i) != fill) {
                 ASSERT_NE(io::sampleAsFloat(channel(result, "albedo.R"), i), io::sampleAsFloat(albedo_in, i)) << i;
