@@ -179,7 +179,7 @@ void createOutputFolders(const BatchRequest& request, const BatchPlan& plan) {
     for (int frame : plan.frames)
         for (const fs::path& out : candidateOutputs(request, plan, frame)) folders.insert(out.parent_path());
     if (!request.preview.empty())
-        for (int frame : plan.frames) folders.insert(fs::path(FramePattern(request.preview).path(frame)).parent_path());
+        for (int frame : plan.frames) folders.insert(fs::path(pathAt(request.preview, frame)).parent_path());
     for (const fs::path& folder : folders) {
         if (folder.empty()) continue;
         std::error_code ec;
@@ -363,7 +363,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
                 try {
                     {
                         StageTimer t{timings.prepare_s};
-                        job->work->prepare(request.io_only ? DecalScene{} : scene, &sequence);
+                        job->work->prepare(scene, &sequence);  // empty for --io-only: nothing to composite
                     }
                     warnings.add(job->work->report().warnings);
                     if (compositor) {

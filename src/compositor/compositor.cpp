@@ -31,11 +31,10 @@ double eventMs(const cl::Event& e) {
 }
 
 // A device buffer of at least `bytes`, grown (never shrunk) as frames need.
-void reserve(cl::Context& context, cl::Buffer& buffer, std::size_t& capacity, std::size_t bytes) {
+void reserve(cl::Context& context, cl::Buffer& buffer, std::size_t bytes) {
     bytes = std::max<std::size_t>(bytes, 16);
-    if (bytes <= capacity) return;
+    if (buffer() && buffer.getInfo<CL_MEM_SIZE>() >= bytes) return;
     buffer = cl::Buffer(context, CL_MEM_READ_WRITE, bytes);
-    capacity = bytes;
 }
 
 // A read-only buffer holding `data` (OpenCL refuses zero-sized buffers).
@@ -117,9 +116,6 @@ struct Compositor::State {
     std::array<StagedBuffer, kSurfaceGroups> surface;
     cl::Buffer frame_buffer, decal_buffer, bounds, tile_depth, coarse_depth, coarse_counts, coarse_offsets,
         chunk_masks, chunk_starts, coarse_lists, tile_counts, tile_offsets, tile_decals, totals_buffer;
-    std::size_t decal_bytes = 0, bounds_bytes = 0, tile_depth_bytes = 0, coarse_depth_bytes = 0,
-                coarse_counts_bytes = 0, coarse_offsets_bytes = 0, chunk_masks_bytes = 0, chunk_starts_bytes = 0,
-                coarse_lists_bytes = 0, tile_counts_bytes = 0, tile_offsets_bytes = 0, tile_decals_bytes = 0;
     std::size_t coarse_capacity = 0, list_capacity = 0;  // list entries (ints)
 
     // last frame's binning, kept for lastBinning()
@@ -243,23 +239,23 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             s.surface[std::size_t(g)].reserve(context, queue, (surface.used[std::size_t(g)] ? pixels : 1) * sizeof(cl_float4),
                                               s.unified);
         s.masks.reserve(context, queue, std::max<std::size_t>(s.mask_count * pixels, 1) * sizeof(float), s.unified);
-        reserve(context, s.decal_buffer, s.decal_bytes, decals * sizeof(cl_types::DcDecal));
-        reserve(context, s.bounds, s.bounds_bytes, decals * sizeof(cl_types::DcDecalBounds));
-        reserve(context, s.tile_depth, s.tile_depth_bytes, tiles * sizeof(cl_float2));
-        reserve(context, s.coarse_depth, s.coarse_depth_bytes, coarse * sizeof(cl_float2));
-        reserve(context, s.coarse_counts, s.coarse_counts_bytes, coarse * sizeof(cl_int));
-        reserve(context, s.coarse_offsets, s.coarse_offsets_bytes, (coarse + 1) * sizeof(cl_int));
-        reserve(context, s.chunk_masks, s.chunk_masks_bytes, coarse * chunks * sizeof(cl_ulong));
-        reserve(context, s.chunk_starts, s.chunk_starts_bytes, coarse * chunks * sizeof(cl_int));
-        reserve(context, s.tile_counts, s.tile_counts_bytes, tiles * sizeof(cl_int));
-        reserve(context, s.tile_offsets, s.tile_offsets_bytes, (tiles + 1) * sizeof(cl_int));
+        reserve(context, s.decal_buffer, decals * sizeof(cl_types::DcDecal));
+        reserve(context, s.bounds, decals * sizeof(cl_types::DcDecalBounds));
+        reserve(context, s.tile_depth, tiles * sizeof(cl_float2));
+        reserve(context, s.coarse_depth, coarse * sizeof(cl_float2));
+        reserve(context, s.coarse_counts, coarse * sizeof(cl_int));
+        reserve(context, s.coarse_offsets, (coarse + 1) * sizeof(cl_int));
+        reserve(context, s.chunk_masks, coarse * chunks * sizeof(cl_ulong));
+        reserve(context, s.chunk_starts, coarse * chunks * sizeof(cl_int));
+        reserve(context, s.tile_counts, tiles * sizeof(cl_int));
+        reserve(context, s.tile_offsets, (tiles + 1) * sizeof(cl_int));
         if (s.coarse_capacity == 0) s.coarse_capacity = listCapacity(std::int64_t(coarse) * 4 + std::int64_t(decals) * 4);
         if (s.list_capacity == 0) s.list_capacity = listCapacity(std::int64_t(tiles) * 4 + std::int64_t(decals) * 16);
 
         // ---- one pass; again only when a list outgrew its capacity (then grown to fit) ----
         for (int attempt = 0;; ++attempt) {
-            reserve(context, s.coarse_lists, s.coarse_lists_bytes, s.coarse_capacity * sizeof(cl_int));
-            reserve(context, s.tile_decals, s.tile_decals_bytes, s.list_capacity * sizeof(cl_int));
+            reserve(context, s.coarse_lists, s.coarse_capacity * sizeof(cl_int));
+            reserve(context, s.tile_decals, s.list_capacity * sizeof(cl_int));
             queue.enqueueWriteBuffer(s.frame_buffer, CL_FALSE, 0, sizeof(params), &params);
             queue.enqueueWriteBuffer(s.decal_buffer, CL_FALSE, 0, decals * sizeof(cl_types::DcDecal),
                                      s.decal_params.data());

@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <filesystem>
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/gbuffer_exr.hpp"
@@ -11,7 +10,6 @@
 
 namespace decalcomp {
 
-namespace fs = std::filesystem;
 
 Frame::Frame(FrameSources sources, FrameTargets targets, FrameOptions options)
     : sources_(std::move(sources)), targets_(std::move(targets)), options_(std::move(options)) {
