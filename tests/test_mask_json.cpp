@@ -129,8 +129,20 @@ INSTANTIATE_TEST_SUITE_P(
         MaskErrorCase{"CryptoLayerEmpty", R"({"cryptomatte": {"layer": "", "names": ["a"]}})",
                       "decals[0].mask.cryptomatte.layer: expected a non-empty layer name"},
         MaskErrorCase{"CryptoUnknownKey", R"({"cryptomatte": {"name": ["a"]}})",
-                      "decals[0].mask.cryptomatte.name: unknown key"}),
+                      "decals[0].mask.cryptomatte.name: unknown key"},
+        MaskErrorCase{"CryptoNameEndsInBackslash", R"({"cryptomatte": {"names": ["ok", "Wall\\"]}})",
+                      "decals[0].mask.cryptomatte.names[1]: ends with a lone '\\'"},
+        MaskErrorCase{"CryptoSingleNameEndsInBackslash", R"({"cryptomatte": {"names": "\\"}})",
+                      "decals[0].mask.cryptomatte.names: ends with a lone '\\'"}),
     [](const ::testing::TestParamInfo<MaskErrorCase>& param_info) { return std::string(param_info.param.label); });
+
+// Names keep their escapes as written: evaluation, not loading, decides what they select.
+TEST(MaskJson, EscapedAndUtf8NamesAreKeptAsWritten) {
+    MaskFixture f;
+    const DecalScene s = loadScene(f.withMask(R"({"cryptomatte": {"names": ["Chair\\*", "St?hle", "a\\\\b"]}})"));
+    ASSERT_EQ(s.masks.size(), 1u);
+    EXPECT_EQ(s.masks[0].cryptomatte_names, (std::vector<std::string>{"Chair\\*", "St?hle", "a\\\\b"}));
+}
 
 TEST(MaskJson, MisspeltMaskKeyIsSuggested) {
     MaskFixture f;

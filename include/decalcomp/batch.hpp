@@ -90,7 +90,7 @@ struct BatchReport {
     std::string camera_source;  // FrameCameras::describe()
     BatchProgress progress;
     std::vector<FrameResult> failures;  // in the order they happened
-    std::vector<std::string> warnings;  // distinct warnings over all frames (missing channels, masks)
+    std::vector<std::string> warnings;  // distinct warnings, each as "frames 1-40: ..." (missing channels, masks)
 };
 
 // Called on the thread that called runBatch, in the order frames finish.

@@ -3,6 +3,7 @@
 // read and write.
 #include <OpenEXR/ImfThreading.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <atomic>
 #include <chrono>
@@ -194,21 +195,55 @@ struct DeviceWorkers {
     std::vector<std::unique_ptr<Compositor>> compositors;
 };
 
-// Distinct warnings of all frames, reported once after the batch.
+// "frame 7", "frames 1-40", "frames 1-3, 7, 10-20x2": runs of one step (three frames or more)
+// as --frames writes them; at most ten pieces, then how many frames are left.
+std::string describeFrames(const std::set<int>& frames) {
+    const std::vector<int> f(frames.begin(), frames.end());
+    if (f.size() == 1) return fmt::format("frame {}", f.front());
+    const auto gap = [&](std::size_t k) { return static_cast<long long>(f[k]) - f[k - 1]; };
+    std::vector<std::string> pieces;
+    std::size_t i = 0;
+    while (i < f.size() && pieces.size() < 10) {
+        std::size_t j = i + 1;
+        const long long step = j < f.size() ? gap(j) : 0;
+        while (j < f.size() && gap(j) == step) ++j;
+        const std::size_t run = j - i;
+        if (run >= 3 || (run == 2 && step == 1)) {
+            pieces.push_back(step == 1 ? fmt::format("{}-{}", f[i], f[j - 1])
+                                       : fmt::format("{}-{}x{}", f[i], f[j - 1], step));
+            i = j;
+        } else {
+            pieces.push_back(std::to_string(f[i]));
+            ++i;
+        }
+    }
+    std::string text = fmt::format("frames {}", fmt::join(pieces, ", "));
+    if (i < f.size()) text += fmt::format(" and {} more", f.size() - i);
+    return text;
+}
+
+// Distinct warnings of all frames, reported once after the batch, each with the frames it came
+// from ("frames 1-40: ..."), in the order of their first frame.
 class WarningSet {
 public:
-    void add(const std::vector<std::string>& warnings) {
+    void add(int frame, const std::vector<std::string>& warnings) {
         std::lock_guard lock(mutex_);
-        warnings_.insert(warnings.begin(), warnings.end());
+        for (const std::string& warning : warnings) frames_[warning].insert(frame);
     }
     std::vector<std::string> list() {
         std::lock_guard lock(mutex_);
-        return {warnings_.begin(), warnings_.end()};
+        std::vector<std::pair<int, std::string>> ordered;
+        for (const auto& [warning, frames] : frames_)
+            ordered.emplace_back(*frames.begin(), describeFrames(frames) + ": " + warning);
+        std::stable_sort(ordered.begin(), ordered.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        std::vector<std::string> out;
+        for (auto& [first, text] : ordered) out.push_back(std::move(text));
+        return out;
     }
 
 private:
     std::mutex mutex_;
-    std::set<std::string> warnings_;
+    std::map<std::string, std::set<int>> frames_;  // warning -> frames
 };
 
 }  // namespace
@@ -365,7 +400,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
                         StageTimer t{timings.prepare_s};
                         job->work->prepare(scene, &sequence);  // empty for --io-only: nothing to composite
                     }
-                    warnings.add(job->work->report().warnings);
+                    warnings.add(job->frame, job->work->report().warnings);
                     if (compositor) {
                         StageTimer t{timings.composite_s};
                         job->work->composite(*compositor);

@@ -1,177 +1,37 @@
 // evaluateMasks: object-id and Cryptomatte decal masks -> per-frame weight planes.
-// Cryptomatte as specified by Psyop (v1.2): metadata cryptomatte/<key>/{name,hash,conversion,
-// manifest,manif_file}; channels <name>00.r/g/b/a, <name>01..., each holding two (id, coverage)
-// rank pairs; ids are MurmurHash3_32 of the names, stored as floats ("uint32_to_float32").
+// Cryptomatte channels <name>00.r/g/b/a (or .R/.G/.B/.A, or Nuke's .red/.green/.blue/.alpha),
+// <name>01..., each hold two (id, coverage) rank pairs; the ids, names and manifests are in
+// decalcomp/cryptomatte.hpp.
 #include "decalcomp/masks.hpp"
 
-#include <OpenEXR/ImfStringAttribute.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <fnmatch.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
+#include <map>
 #include <optional>
-#include <sstream>
 
 #include "decalcomp/channel_mapping.hpp"
+#include "decalcomp/cryptomatte.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_file.hpp"
 #include "decalcomp/gbuffer_exr.hpp"
-#include "decalcomp/json_fields.hpp"
 #include "io/exr_layout.hpp"
 
 namespace decalcomp {
 
-// ---- MurmurHash3 (x86, 32-bit), written from the published description ----
-
-namespace {
-
-constexpr std::uint32_t rotateLeft(std::uint32_t x, int r) { return (x << r) | (x >> (32 - r)); }
-
-// The per-block scramble, applied to every full 4-byte block and to the zero-padded tail.
-constexpr std::uint32_t scramble(std::uint32_t k) {
-    k *= 0xcc9e2d51u;
-    k = rotateLeft(k, 15);
-    k *= 0x1b873593u;
-    return k;
-}
-
-// Final avalanche.
-constexpr std::uint32_t finalMix(std::uint32_t h) {
-    h ^= h >> 16;
-    h *= 0x85ebca6bu;
-    h ^= h >> 13;
-    h *= 0xc2b2ae35u;
-    h ^= h >> 16;
-    return h;
-}
-
-}  // namespace
-
-std::uint32_t murmurHash3_32(std::string_view data, std::uint32_t seed) {
-    const auto byte = [&](std::size_t i) { return std::uint32_t(static_cast<unsigned char>(data[i])); };
-    const std::size_t length = data.size();
-    const std::size_t full = length / 4 * 4;
-    std::uint32_t h = seed;
-    for (std::size_t i = 0; i < full; i += 4) {
-        // blocks are read little-endian whatever the host
-        const std::uint32_t k = byte(i) | byte(i + 1) << 8 | byte(i + 2) << 16 | byte(i + 3) << 24;
-        h ^= scramble(k);
-        h = rotateLeft(h, 13);
-        h = h * 5u + 0xe6546b64u;
-    }
-    std::uint32_t tail = 0;
-    for (std::size_t i = length; i > full; --i) tail = tail << 8 | byte(i - 1);
-    if (length > full) h ^= scramble(tail);
-    h ^= std::uint32_t(length);  // the length modulo 2^32, as the algorithm defines it
-    return finalMix(h);
-}
-
-std::uint32_t cryptomatteBitsFromHash(std::uint32_t hash) {
-    const std::uint32_t exponent = std::clamp<std::uint32_t>((hash >> 23) & 0xffu, 1u, 254u);
-    return (hash & 0x807fffffu) | exponent << 23;
-}
-
-float cryptomatteFloatFromHash(std::uint32_t hash) {
-    const std::uint32_t bits = cryptomatteBitsFromHash(hash);
-    float f;
-    std::memcpy(&f, &bits, sizeof f);
-    return f;
-}
-
-// ---- Cryptomatte metadata and manifests ----
-
-namespace fs = std::filesystem;
-using json = nlohmann::json;
-
-std::vector<CryptomatteLayer> cryptomatteLayers(const std::vector<ExrImage>& files) {
-    std::vector<CryptomatteLayer> layers;
-    for (const ExrImage& image : files) {
-        std::map<std::string, CryptomatteLayer> by_key;  // one file's layers, by key
-        for (const ExrPart& part : image.parts)
-            for (auto it = part.header.begin(); it != part.header.end(); ++it) {
-                const std::string name = it.name();
-                if (!name.starts_with("cryptomatte/")) continue;
-                const auto slash = name.find('/', 12);
-                if (slash == std::string::npos) continue;
-                const auto* value = dynamic_cast<const Imf::StringAttribute*>(&it.attribute());
-                if (!value) continue;
-                const std::string key = name.substr(12, slash - 12), field = name.substr(slash + 1);
-                CryptomatteLayer& layer = by_key[key];
-                layer.file = image.path;
-                layer.key = key;
-                if (field == "name") layer.name = value->value();
-                else if (field == "hash") layer.hash = value->value();
-                else if (field == "conversion") layer.conversion = value->value();
-                else if (field == "manifest") layer.manifest = value->value();
-                else if (field == "manif_file") layer.manif_file = value->value();
-            }
-        for (auto& [key, layer] : by_key)
-            if (!layer.name.empty()) layers.push_back(std::move(layer));
-    }
-    return layers;
-}
-
-namespace {
-
-std::optional<std::uint32_t> parseHex(const std::string& s) {
-    if (s.empty() || s.size() > 8) return std::nullopt;
-    std::uint32_t v = 0;
-    for (char c : s) {
-        int d;
-        if (c >= '0' && c <= '9') d = c - '0';
-        else if (c >= 'a' && c <= 'f') d = c - 'a' + 10;
-        else if (c >= 'A' && c <= 'F') d = c - 'A' + 10;
-        else return std::nullopt;
-        v = v << 4 | std::uint32_t(d);
-    }
-    return v;
-}
-
-}  // namespace
-
-std::map<std::string, std::uint32_t> cryptomatteManifest(const CryptomatteLayer& layer) {
-    std::map<std::string, std::uint32_t> manifest;
-    std::string text, where;
-    const std::string field = "cryptomatte/" + layer.key + "/manifest";
-    if (!layer.manifest.empty()) {
-        text = layer.manifest;
-        where = fmt::format("{}: {}", layer.file, field);
-    } else if (!layer.manif_file.empty()) {
-        fs::path sidecar(layer.manif_file);
-        if (sidecar.is_relative()) sidecar = fs::path(layer.file).parent_path() / sidecar;
-        std::ifstream in(sidecar, std::ios::binary);
-        std::stringstream buffer;
-        buffer << in.rdbuf();
-        if (!in)
-            throw inputError(fmt::format("{}: cryptomatte/{}/manif_file: cannot read the manifest '{}'", layer.file,
-                                         layer.key, sidecar.string()));
-        text = buffer.str();
-        where = fmt::format("{}: cryptomatte/{}/manif_file: {}", layer.file, layer.key, sidecar.string());
-    } else {
-        return manifest;
-    }
-    const json parsed = parseJsonText(text, where);
-    const JsonField root(parsed, where);
-    root.requireObject("a JSON object mapping names to hexadecimal hashes");
-    for (const auto& [name, value] : root.members()) {
-        const auto hash = value.value().is_string() ? parseHex(value.value().get<std::string>()) : std::nullopt;
-        if (!hash) value.fail(fmt::format("expected a hash of 8 hexadecimal digits, got {}", value.value().dump()));
-        manifest[name] = *hash;
-    }
-    return manifest;
-}
-
-// ---- evaluation ----
-
 namespace {
 
 using Files = std::vector<ExrImage>;
+
+// How warnings name file `index`: its label when the caller gave one, else its path.
+std::string shownName(const Files& files, const std::vector<std::string>& labels, std::size_t index) {
+    if (index < labels.size() && !labels[index].empty()) return labels[index];
+    return files.at(index).path;
+}
 
 // "decal 'a'", "decals 'a', 'b' and 3 more": who uses a mask, for messages.
 std::string decalsUsing(const DecalScene& scene, int mask) {
@@ -207,7 +67,8 @@ struct IdPass {
 
 // The object-id plane and its checks, only when some mask uses ids.
 void prepareIdPass(const Files& files, const ChannelMapping& mapping, const DecalScene& scene, const GBuffer& frame,
-                   const Imath::Box2i& window, IdPass& pass, std::vector<std::string>* warnings) {
+                   const Imath::Box2i& window, IdPass& pass, std::vector<std::string>* warnings,
+                   const std::vector<std::string>& labels) {
     const std::string& label = files.front().path;
     int first_user = -1;
     for (int m = 0; m < int(scene.masks.size()); ++m)
@@ -248,14 +109,16 @@ void prepareIdPass(const Files& files, const ChannelMapping& mapping, const Deca
         pass.storage = readChannelsOnWindow(files, {ref}, window, 0.0f, true, attributeName(Attribute::ObjectId));
         pass.plane = &pass.storage;
     }
-    // Filtered id passes (averaged at edges) still work, rounded, but deserve a word.
-    std::size_t fractional = 0;
-    for (float v : pass.plane->samples)
-        if (std::isfinite(v) && std::abs(v - std::round(v)) > 1e-3f) ++fractional;
-    if (fractional > 0 && warnings)
-        warnings->push_back(fmt::format("{}: channel {}: {} pixels hold non-integer object ids (a filtered id "
-                                        "pass?); they are rounded to the nearest integer",
-                                        file, channel.qualified, fractional));
+    // Filtered id passes (averaged at edges) still work, rounded, but deserve a word. The text
+    // does not depend on how many pixels, so a batch reports it once for all its frames.
+    const bool fractional = std::any_of(pass.plane->samples.begin(), pass.plane->samples.end(), [](float v) {
+        return std::isfinite(v) && std::abs(v - std::round(v)) > 1e-3f;
+    });
+    if (fractional && warnings)
+        warnings->push_back(fmt::format("{}: channel {}: holds non-integer object ids, which are rounded to the "
+                                        "nearest integer; check that the id pass is written unfiltered (one sample "
+                                        "per pixel, no antialiasing)",
+                                        shownName(files, labels, std::size_t(ref.file)), channel.qualified));
 }
 
 void applyIdMask(const DecalMask& mask, const Plane& ids, std::vector<float>& weights) {
@@ -275,10 +138,14 @@ void applyIdMask(const DecalMask& mask, const Plane& ids, std::vector<float>& we
     }
 }
 
+
+// ---- Cryptomatte ----
+
 // A Cryptomatte layer resolved against the files: metadata, manifest and rank planes.
 struct ResolvedLayer {
     CryptomatteLayer meta;
-    std::map<std::string, std::uint32_t> manifest;
+    std::string shown;  // how warnings name its file
+    CryptomatteManifest manifest;
     std::vector<Plane> ranks;  // per channel set NN: 4 components (id, coverage, id, coverage)
 };
 
@@ -339,7 +206,36 @@ std::optional<ChannelRef> findChannel(const Files& files, const std::string& wan
     return std::nullopt;
 }
 
-ResolvedLayer resolveLayer(const Files& files, const CryptomatteLayer& meta, const Imath::Box2i& window) {
+// How writers name the four channels of a rank set: the specification's r/g/b/a, upper case, and
+// Nuke's red/green/blue/alpha.
+constexpr std::array<std::array<const char*, 4>, 3> kRankSuffixes = {
+    {{"r", "g", "b", "a"}, {"R", "G", "B", "A"}, {"red", "green", "blue", "alpha"}}};
+
+// The four channels of rank set `prefix` (e.g. "CryptoObject00."), in the first naming that has
+// all four; empty when no naming has any (the sets have ended). Throws when one is incomplete.
+std::vector<ChannelRef> rankChannels(const Files& files, const CryptomatteLayer& meta, const std::string& prefix) {
+    std::vector<std::string> missing_in_best;
+    std::size_t best_found = 0;
+    for (const auto& suffixes : kRankSuffixes) {
+        std::vector<ChannelRef> refs;
+        std::vector<std::string> missing;
+        for (const char* suffix : suffixes) {
+            if (auto ref = findChannel(files, prefix + suffix)) refs.push_back(*ref);
+            else missing.push_back(prefix + suffix);
+        }
+        if (missing.empty()) return refs;
+        if (refs.size() > best_found) {
+            best_found = refs.size();
+            missing_in_best = missing;
+        }
+    }
+    if (best_found == 0) return {};
+    throw inputError(fmt::format("{}: Cryptomatte layer {}: missing channel(s) {} (each rank set needs four "
+                                 "channels: .r/.g/.b/.a, .R/.G/.B/.A or .red/.green/.blue/.alpha)",
+                                 meta.file, meta.name, fmt::join(missing_in_best, ", ")));
+}
+
+void checkHashAndConversion(const CryptomatteLayer& meta) {
     const std::string field = "cryptomatte/" + meta.key;
     if (!meta.hash.empty() && meta.hash != "MurmurHash3_32")
         throw inputError(fmt::format("{}: {}/hash: unsupported hash '{}' (supported: MurmurHash3_32)", meta.file,
@@ -347,46 +243,39 @@ ResolvedLayer resolveLayer(const Files& files, const CryptomatteLayer& meta, con
     if (!meta.conversion.empty() && meta.conversion != "uint32_to_float32")
         throw inputError(fmt::format("{}: {}/conversion: unsupported conversion '{}' (supported: uint32_to_float32)",
                                      meta.file, field, meta.conversion));
+}
+
+// Metadata, manifest (its warnings go to `warnings`) and rank planes of one layer.
+ResolvedLayer resolveLayer(const Files& files, const CryptomatteLayer& meta, const Imath::Box2i& window,
+                           const std::string& shown, std::vector<std::string>* warnings) {
+    checkHashAndConversion(meta);
     ResolvedLayer layer;
     layer.meta = meta;
-    layer.manifest = cryptomatteManifest(meta);
+    layer.shown = shown;
+    layer.manifest = cryptomatteManifest(meta, shown);
+    if (warnings) warnings->insert(warnings->end(), layer.manifest.warnings.begin(), layer.manifest.warnings.end());
     for (int level = 0; level < 100; ++level) {
-        const std::string prefix = fmt::format("{}{:02d}.", meta.name, level);
-        std::vector<ChannelRef> refs;
-        std::vector<std::string> missing;
-        for (const char* suffixes : {"rgba", "RGBA"}) {
-            refs.clear();
-            missing.clear();
-            for (int c = 0; c < 4; ++c) {
-                const std::string name = prefix + suffixes[c];
-                if (auto ref = findChannel(files, name)) refs.push_back(*ref);
-                else missing.push_back(name);
-            }
-            if (missing.empty() || missing.size() < 4) break;
-        }
-        if (missing.size() == 4) break;  // no more rank channel sets
-        if (!missing.empty())
-            throw inputError(fmt::format("{}: Cryptomatte layer {}: missing channel(s) {}", meta.file, meta.name,
-                                         fmt::join(missing, ", ")));
+        const std::vector<ChannelRef> refs = rankChannels(files, meta, fmt::format("{}{:02d}.", meta.name, level));
+        if (refs.empty()) break;
         // Ids are 32-bit float bit patterns: HALF would destroy them, UINT is not the convention.
         for (int c : {0, 2}) {
-            const ExrChannel& channel = channelOf(files, refs[std::size_t(c)]);
+            const ChannelRef& ref = refs[std::size_t(c)];
+            const ExrChannel& channel = channelOf(files, ref);
             if (channel.type != SampleType::Float)
                 throw inputError(fmt::format("{}: channel {}: {} cannot hold Cryptomatte ids (they are 32-bit float "
                                              "hashes; write the Cryptomatte channels as FLOAT)",
-                                             files[std::size_t(refs[std::size_t(c)].file)].path, channel.qualified,
+                                             files[std::size_t(ref.file)].path, channel.qualified,
                                              io::sampleTypeName(channel.type)));
         }
         layer.ranks.push_back(
             readChannelsOnWindow(files, refs, window, 0.0f, false, fmt::format("Cryptomatte {}", meta.name)));
     }
     if (layer.ranks.empty())
-        throw inputError(fmt::format("{}: Cryptomatte layer {} ({}/name) has no channels {}00.r, {}00.g, ...",
-                                     meta.file, meta.name, field, meta.name, meta.name));
+        throw inputError(fmt::format("{}: Cryptomatte layer {} (cryptomatte/{}/name) has no channels {}00.r, {}00.g, "
+                                     "... (nor .R or .red)",
+                                     meta.file, meta.name, meta.key, meta.name, meta.name));
     return layer;
 }
-
-bool hasWildcard(const std::string& pattern) { return pattern.find_first_of("*?[") != std::string::npos; }
 
 bool idOccurs(const ResolvedLayer& layer, std::uint32_t bits) {
     for (const Plane& rank : layer.ranks)
@@ -398,34 +287,86 @@ bool idOccurs(const ResolvedLayer& layer, std::uint32_t bits) {
     return false;
 }
 
+// The ids (float bit patterns) one `names` entry selects, and whether it selects anything here.
+struct Selection {
+    std::vector<std::uint32_t> ids;
+    bool found = false;
+};
+
+// In order: an entry that is exactly a manifest name selects that name alone, whatever characters
+// it has; an entry without wildcards is a name (escapes removed), taken from the manifest or else
+// hashed; an entry with wildcards selects every manifest name it matches.
+Selection selectEntry(const CryptomattePattern& pattern, const ResolvedLayer& layer) {
+    const auto& names = layer.manifest.names;
+    const auto listed = [&](const std::string& name) -> std::optional<Selection> {
+        const auto it = names.find(name);
+        if (it == names.end()) return std::nullopt;
+        return Selection{{cryptomatteBitsFromHash(it->second)}, true};
+    };
+    if (auto exact = listed(pattern.text())) return *exact;
+    if (!pattern.hasWildcards()) {
+        if (auto name = listed(pattern.literal())) return *name;
+        // Not in the manifest (or none): the name's own hash selects it wherever a pixel holds it.
+        const std::uint32_t bits = cryptomatteBitsFromHash(murmurHash3_32(pattern.literal()));
+        return Selection{{bits}, idOccurs(layer, bits)};
+    }
+    Selection s;
+    for (const auto& [name, hash] : names)
+        if (pattern.matches(name)) s.ids.push_back(cryptomatteBitsFromHash(hash));
+    s.found = !s.ids.empty();
+    return s;
+}
+
+// "names: A, B, C" (at most 20 of them), for warnings.
+std::string manifestNames(const CryptomatteManifest& manifest) {
+    std::vector<std::string> names;
+    for (const auto& [name, hash] : manifest.names) names.push_back(name);
+    if (names.size() <= 20) return fmt::format("names: {}", fmt::join(names, ", "));
+    return fmt::format("{} names, e.g. {}", names.size(), fmt::join(names.begin(), names.begin() + 20, ", "));
+}
+
+// The warning for entry k of mask m that selects nothing: where, why, and what to check.
+std::string nothingSelected(const DecalScene& scene, int m, std::size_t k, const CryptomattePattern& pattern,
+                            const ResolvedLayer& layer) {
+    const std::string what = fmt::format("{}: {}: mask.cryptomatte.names[{}]: '{}' matches nothing in {}", layer.shown,
+                                         decalsUsing(scene, m), k, pattern.text(), layer.meta.name);
+    const CryptomatteManifest& manifest = layer.manifest;
+    if (!manifest.names.empty()) {
+        if (pattern.hasWildcards())
+            return fmt::format("{} ({}); check the pattern (names are case-sensitive; \\* \\? \\[ match those "
+                               "characters literally)",
+                               what, manifestNames(manifest));
+        return fmt::format("{} (not in the manifest, and no pixel holds its hash; {}); check the spelling, or "
+                           "whether the object is in view",
+                           what, manifestNames(manifest));
+    }
+    const char* why = manifest.source == CryptomatteManifest::Source::None ? "the layer has no manifest"
+                      : manifest.readable                                   ? "its manifest lists no names"
+                                                                            : "its manifest could not be read";
+    if (pattern.hasWildcards())
+        return fmt::format("{} ({}, so wildcards have no names to match); give exact names, which select by their "
+                           "hash (\\* \\? \\[ for those characters in a name)",
+                           what, why);
+    return fmt::format("{} (no pixel holds its hash, and {}); check the spelling, or whether the object is in view",
+                       what, why);
+}
+
 void applyCryptomatteMask(const DecalScene& scene, int m, const ResolvedLayer& layer, std::vector<float>& weights,
                           std::vector<std::string>* warnings) {
     const DecalMask& mask = scene.masks[std::size_t(m)];
     std::vector<std::uint32_t> ids;  // float bit patterns of the selected ids, sorted below
     for (std::size_t k = 0; k < mask.cryptomatte_names.size(); ++k) {
-        const std::string& pattern = mask.cryptomatte_names[k];
-        bool matched = false;
-        for (const auto& [name, hash] : layer.manifest)
-            if (name == pattern || ::fnmatch(pattern.c_str(), name.c_str(), 0) == 0) {
-                ids.push_back(cryptomatteBitsFromHash(hash));
-                matched = true;
-            }
-        if (!matched && !hasWildcard(pattern)) {
-            // Not in the manifest (or none): the name's own hash still selects it if it is there.
-            const std::uint32_t bits = cryptomatteBitsFromHash(murmurHash3_32(pattern));
-            ids.push_back(bits);
-            matched = idOccurs(layer, bits);
+        const std::string& entry = mask.cryptomatte_names[k];
+        std::optional<CryptomattePattern> pattern;
+        try {
+            pattern.emplace(entry);
+        } catch (const Error& e) {  // scenes are checked on load; masks built in code may not be
+            throw inputError(fmt::format("{}: mask.cryptomatte.names[{}]: '{}' {}", decalsUsing(scene, m), k, entry,
+                                         e.what()));
         }
-        if (!matched && warnings) {
-            std::vector<std::string> names;
-            for (const auto& [name, hash] : layer.manifest) names.push_back(name);
-            std::string known = layer.manifest.empty() ? std::string("the layer has no manifest")
-                                                       : fmt::format("names: {}", fmt::join(names, ", "));
-            if (names.size() > 20) known = fmt::format("{} names, e.g. {}", names.size(),
-                                                       fmt::join(names.begin(), names.begin() + 20, ", "));
-            warnings->push_back(fmt::format("{}: mask.cryptomatte.names[{}]: '{}' matches nothing in {} ({})",
-                                            decalsUsing(scene, m), k, pattern, layer.meta.name, known));
-        }
+        const Selection selection = selectEntry(*pattern, layer);
+        ids.insert(ids.end(), selection.ids.begin(), selection.ids.end());
+        if (!selection.found && warnings) warnings->push_back(nothingSelected(scene, m, k, *pattern, layer));
     }
     std::sort(ids.begin(), ids.end());
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
@@ -445,7 +386,7 @@ void applyCryptomatteMask(const DecalScene& scene, int m, const ResolvedLayer& l
 }  // namespace
 
 void evaluateMasks(const std::vector<ExrImage>& files, const ChannelMapping& mapping, const DecalScene& scene,
-                   GBuffer& frame, std::vector<std::string>* warnings) {
+                   GBuffer& frame, std::vector<std::string>* warnings, const std::vector<std::string>& file_labels) {
     frame.mask_weights.clear();
     if (scene.masks.empty()) return;
     if (files.empty()) throw inputError("decal masks: no input files");
@@ -457,7 +398,7 @@ void evaluateMasks(const std::vector<ExrImage>& files, const ChannelMapping& map
                                      window.max.y - window.min.y + 1));
 
     IdPass id_pass;
-    prepareIdPass(files, mapping, scene, frame, window, id_pass, warnings);
+    prepareIdPass(files, mapping, scene, frame, window, id_pass, warnings, file_labels);
 
     std::vector<CryptomatteLayer> layers;
     std::map<std::string, ResolvedLayer> resolved;  // by layer name + file
@@ -475,7 +416,10 @@ void evaluateMasks(const std::vector<ExrImage>& files, const ChannelMapping& map
                 findLayer(layers, mask.cryptomatte_layer, mapping, label, decalsUsing(scene, m));
             const std::string key = meta.file + "\n" + meta.key;
             auto it = resolved.find(key);
-            if (it == resolved.end()) it = resolved.emplace(key, resolveLayer(files, meta, window)).first;
+            if (it == resolved.end()) {
+                const std::string shown = shownName(files, file_labels, meta.file_index);
+                it = resolved.emplace(key, resolveLayer(files, meta, window, shown, warnings)).first;
+            }
             applyCryptomatteMask(scene, m, it->second, plane.samples, warnings);
         }
         planes.push_back(std::move(plane));

@@ -49,6 +49,8 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
     run.other_reads = {scene.source, sources_.camera_json};
     for (const std::string& profile : options_.mapping.profile_files) run.other_reads.push_back(profile);
     for (const Texture2D& texture : scene.textures) run.other_reads.push_back(texture.source);
+    for (const CryptomatteLayer& layer : cryptomatteLayers(files_))  // sidecar manifests ("" for none)
+        run.other_reads.push_back(cryptomatteSidecarPath(layer));
     checkRunFiles(run, targets_.overwrite_input);
 
     if (decals_.empty() && targets_.preview.empty()) {  // nothing alive on this frame: written as read
@@ -66,7 +68,8 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
         report_.depth_check = settleDepthConvention(gbuffer_, mapping, camera_);
         report_.normal_check = settleNormalEncoding(gbuffer_, mapping, camera_);
     }
-    evaluateMasks(files_, mapping, scene, gbuffer_, &report_.warnings);  // decal masks for this frame
+    // Decal masks for this frame; their warnings name the first input by the label, as above.
+    evaluateMasks(files_, mapping, scene, gbuffer_, &report_.warnings, {options_.label});
     prepared_ = true;
 }
 

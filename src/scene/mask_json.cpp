@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "decalcomp/cryptomatte.hpp"
 #include "decalcomp/error.hpp"
 
 namespace decalcomp::scene_detail {
@@ -20,13 +21,24 @@ std::vector<int> ids(const JsonField& v) {
     return out;
 }
 
+// A name or pattern, checked now so a mistake is a scene error rather than a frame's.
+std::string namePattern(const JsonField& v) {
+    std::string text = v.nonEmptyString("name");
+    try {
+        static_cast<void>(CryptomattePattern(text));
+    } catch (const Error& e) {
+        v.fail(e.what());
+    }
+    return text;
+}
+
 // A single string is shorthand for a one-element list.
 std::vector<std::string> names(const JsonField& v) {
-    if (v.value().is_string()) return {v.nonEmptyString("name")};
+    if (v.value().is_string()) return {namePattern(v)};
     v.requireArray("an array of names");
     if (v.size() == 0) v.fail("expected at least one name");
     std::vector<std::string> out;
-    for (const JsonField& name : v.elements()) out.push_back(name.nonEmptyString("name"));
+    for (const JsonField& name : v.elements()) out.push_back(namePattern(name));
     return out;
 }
 
