@@ -89,11 +89,12 @@ struct BatchReport {
     std::vector<std::string> devices;  // names of the devices used; empty for io_only
     std::string camera_source;  // FrameCameras::describe()
     BatchProgress progress;
-    std::vector<FrameResult> failures;  // in the order they happened
+    std::vector<FrameResult> failures;  // in frame (plan) order
+    std::optional<int> stopped_at;      // the failed frame that stopped the batch (without keep_going)
     std::vector<std::string> warnings;  // distinct warnings, each as "frames 1-40: ..." (missing channels, masks)
 };
 
-// Called on the thread that called runBatch, in the order frames finish.
+// Called on the thread that called runBatch, in frame (plan) order.
 class BatchObserver {
 public:
     virtual ~BatchObserver() = default;
@@ -104,10 +105,13 @@ public:
 
 // Runs the batch: scene, textures and kernels are set up once; one thread reads (frame N+1), the
 // compositing workers shade (frame N) and one thread writes (frame N-1), with bounded queues in
-// between, while OpenEXR's thread pool decodes and encodes. Stale temporaries of this shard's
-// outputs (left by a killed run) are removed first. Set-up errors throw. A failed frame throws
-// its Error unless keep_going, after the frames in flight are abandoned (no partial file is left:
-// every output is written to a temporary and renamed). With keep_going the report lists failures.
+// between, while OpenEXR's thread pool decodes and encodes. Frames are written and reported in
+// plan order. Without keep_going every input of the range must exist before anything starts
+// (else Error(Input), nothing written), and the first failing frame stops the batch: every frame
+// before it is written, none after it, and the observer's finished() sees the counts before its
+// Error is thrown. With keep_going the report lists the failures. Stale temporaries of this
+// shard's outputs (left by a killed run) are removed first; every output is written to a
+// temporary and renamed, so no partial file is left. Set-up errors throw.
 BatchReport runBatch(const BatchRequest& request, BatchObserver* observer = nullptr);
 
 }  // namespace decalcomp

@@ -21,6 +21,11 @@ public:
     // the per-frame file or its sidecar cannot be read.
     std::optional<Camera> explicitCamera(int frame) const;
     std::string describe() const;
+    // What a batch checks before it starts: the sidecar the pattern names for `frame` ("" without
+    // a sidecar pattern), and whether a per-frame cameras file has the frame (true without one).
+    std::string sidecarPath(int frame) const;
+    bool hasFrame(int frame) const;
+    const std::string& perFrameFile() const { return per_frame_file_; }
 
 private:
     std::optional<Camera> fixed_;

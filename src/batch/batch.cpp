@@ -1,6 +1,7 @@
 // The batch loop over Frame: one reader thread, compositing workers (per device) and one writer
 // thread joined by bounded queues, with OpenEXR's thread pool decoding and encoding inside each
-// read and write.
+// read and write. The writer puts frames back in plan order, so where a batch stops does not
+// depend on which worker was faster.
 #include <OpenEXR/ImfThreading.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -11,10 +12,13 @@
 #include <cstdlib>
 #include <deque>
 #include <filesystem>
+#include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <thread>
 
+#include "batch/batch_files.hpp"
 #include "decalcomp/batch.hpp"
 #include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/compositor.hpp"
@@ -27,6 +31,7 @@
 namespace decalcomp {
 
 namespace fs = std::filesystem;
+using batch::pathAt;
 
 namespace {
 
@@ -90,10 +95,13 @@ private:
     bool closed_ = false;
 };
 
+// A frame on its way through the pipeline.
 struct Job {
+    std::size_t index = 0;  // position in the plan: the writer finishes frames in this order
     int frame = 0;
     std::string output;  // for reports: the output pattern's path (or folder)
     std::unique_ptr<Frame> work;
+    std::optional<FrameResult> finished;  // skipped, or failed before its write: nothing to write
 };
 
 FrameResult failure(int frame, const std::string& output, const std::exception_ptr& error) {
@@ -114,80 +122,60 @@ FrameResult failure(int frame, const std::string& output, const std::exception_p
     return r;
 }
 
-// A pattern's path for the frame; a path without a frame token names the same file every frame.
-std::string pathAt(const std::string& pattern_or_path, int frame) {
-    return FramePattern::hasToken(pattern_or_path) ? FramePattern(pattern_or_path).path(frame) : pattern_or_path;
-}
+// At most `limit` frames between the reader taking one and the writer finishing it: frames that
+// wait for an earlier one to be written first stay bounded, and so does memory.
+class InFlightLimit {
+public:
+    explicit InFlightLimit(int limit) : free_(std::max(limit, 1)) {}
 
-FrameSources frameSources(const BatchRequest& request, const BatchPlan& plan, int frame) {
-    FrameSources sources;
-    sources.inputs.push_back(plan.input.path(frame));
-    for (const std::string& extra : request.extra_inputs) sources.inputs.push_back(pathAt(extra, frame));
-    for (const auto& [attribute, pattern] : request.pass_files) sources.pass_files[attribute] = pathAt(pattern, frame);
-    return sources;
-}
-
-std::vector<std::string> frameInputs(const BatchRequest& request, const BatchPlan& plan, int frame) {
-    FrameSources sources = frameSources(request, plan, frame);
-    for (const auto& [attribute, path] : sources.pass_files) sources.inputs.push_back(path);
-    return sources.inputs;
-}
-
-// The files a frame's outputs may be: the pattern's path, or for a folder each of its input
-// files' names there (which of them change is known only once the frame's channels are mapped).
-std::vector<fs::path> candidateOutputs(const BatchRequest& request, const BatchPlan& plan, int frame) {
-    if (!plan.outputIsFolder()) return {fs::path(plan.outputAt(frame))};
-    const fs::path folder(plan.outputAt(frame));
-    std::vector<fs::path> paths;
-    for (const std::string& input : frameInputs(request, plan, frame))
-        paths.push_back(folder / fs::path(input).filename());
-    return paths;
-}
-
-// A frame is done when an output exists: the outputs of a frame are renamed into place together,
-// after all of them are complete.
-bool frameDone(const BatchRequest& request, const BatchPlan& plan, int frame) {
-    std::error_code ec;
-    for (const fs::path& path : candidateOutputs(request, plan, frame))
-        if (fs::is_regular_file(path, ec)) return true;
-    return false;
-}
-
-// writeExrTemporary writes ".NAME.tmp-PID" beside NAME (src/io/exr_file.cpp). A run killed while
-// writing leaves one behind; the next run removes those of its own frames (never another shard's).
-void removeStaleTemporaries(const BatchRequest& request, const BatchPlan& plan) {
-    std::map<fs::path, std::set<std::string>> names;  // folder -> output file names
-    for (int frame : plan.frames)
-        for (const fs::path& out : candidateOutputs(request, plan, frame))
-            names[out.parent_path()].insert(out.filename().string());
-    for (const auto& [folder, files] : names) {
-        std::error_code ec;
-        const fs::path dir = folder.empty() ? fs::path(".") : folder;
-        for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-            const std::string name = it->path().filename().string();
-            const auto tmp = name.rfind(".tmp-");
-            if (name.size() < 2 || name[0] != '.' || tmp == std::string::npos || tmp < 2) continue;
-            if (files.count(name.substr(1, tmp - 1))) {
-                std::error_code ignored;
-                fs::remove(it->path(), ignored);
-            }
-        }
+    bool acquire() {  // false once cancelled
+        std::unique_lock lock(mutex_);
+        freed_.wait(lock, [&] { return cancelled_ || free_ > 0; });
+        if (cancelled_) return false;
+        --free_;
+        return true;
     }
-}
 
-void createOutputFolders(const BatchRequest& request, const BatchPlan& plan) {
-    std::set<fs::path> folders;
-    for (int frame : plan.frames)
-        for (const fs::path& out : candidateOutputs(request, plan, frame)) folders.insert(out.parent_path());
-    if (!request.preview.empty())
-        for (int frame : plan.frames) folders.insert(fs::path(pathAt(request.preview, frame)).parent_path());
-    for (const fs::path& folder : folders) {
-        if (folder.empty()) continue;
-        std::error_code ec;
-        fs::create_directories(folder, ec);
-        if (ec) throw outputError(fmt::format("{}: cannot create the output folder: {}", folder.string(), ec.message()));
+    void release() {
+        std::lock_guard lock(mutex_);
+        ++free_;
+        freed_.notify_one();
     }
-}
+
+    void cancel() {
+        std::lock_guard lock(mutex_);
+        cancelled_ = true;
+        freed_.notify_all();
+    }
+
+private:
+    std::mutex mutex_;
+    std::condition_variable freed_;
+    int free_;
+    bool cancelled_ = false;
+};
+
+// Hands jobs out in plan order, whatever order they arrive in.
+class InOrder {
+public:
+    void add(Job job) {
+        const std::size_t index = job.index;
+        waiting_.emplace(index, std::move(job));
+    }
+
+    std::optional<Job> next() {
+        const auto it = waiting_.find(next_);
+        if (it == waiting_.end()) return std::nullopt;
+        Job job = std::move(it->second);
+        waiting_.erase(it);
+        ++next_;
+        return job;
+    }
+
+private:
+    std::map<std::size_t, Job> waiting_;
+    std::size_t next_ = 0;
+};
 
 // One device's compositors, one per worker, each holding the scene's textures.
 struct DeviceWorkers {
@@ -246,6 +234,230 @@ private:
     std::map<std::string, std::set<int>> frames_;  // warning -> frames
 };
 
+// The three stages of a batch and what they share. The reader takes frames in plan order, the
+// workers composite them in whatever order they finish, and the writer writes and reports them
+// in plan order again: a batch that stops at a failing frame has written every frame before it
+// and none after it, whatever the timing.
+class Pipeline {
+public:
+    struct SetUp {  // once per batch, shared by every frame
+        const BatchRequest& request;
+        const BatchPlan& plan;
+        const FrameCameras& cameras;
+        const DecalScene& scene;
+        std::vector<DeviceWorkers>& devices;
+        FrameOptions options;
+        int workers_per_device = 1;
+    };
+
+    explicit Pipeline(SetUp setup)
+        : s_(std::move(setup)),
+          workers_(s_.request.io_only ? 1 : int(s_.devices.size()) * s_.workers_per_device),
+          depth_(std::size_t(std::max(1, s_.request.queue_depth))),
+          to_composite_(depth_),
+          to_write_(depth_),
+          in_flight_(int(2 * depth_) + workers_ + 1),
+          timings_(std::size_t(workers_) + 2) {}
+
+    ~Pipeline() {  // on an exception in the observer: stop and join the threads
+        cancel();
+        for (std::thread& t : threads_)
+            if (t.joinable()) t.join();
+    }
+
+    // Runs the frames; reports each to `watch` on this thread, in plan order. Returns the failure
+    // that stopped the batch (without keep_going), if one did.
+    std::optional<FrameResult> run(BatchReport& report, BatchObserver& watch);
+    std::vector<std::string> warnings() { return warnings_.list(); }
+    BatchTimings timings() const;
+
+private:
+    SetUp s_;
+    const int workers_;
+    const std::size_t depth_;
+    BoundedQueue<Job> to_composite_, to_write_;
+    BoundedQueue<FrameResult> results_{std::size_t(-1) / 2};
+    InFlightLimit in_flight_;
+    std::atomic<int> producers_{0};  // of to_write_: the reader and the workers
+    SequenceConventions sequence_;  // depth and normal readings settled once for the sequence
+    WarningSet warnings_;
+    std::vector<BatchTimings> timings_;  // reader, writer, then one per worker; summed at the end
+    std::vector<std::thread> threads_;
+
+    void cancel() {
+        to_composite_.cancel();
+        to_write_.cancel();
+        in_flight_.cancel();
+    }
+    void producerDone() {
+        if (--producers_ == 0) to_write_.close();
+    }
+    void readFrames();
+    Job readFrame(std::size_t index);
+    void compositeFrames(int worker);
+    void compositeFrame(Job& job, Compositor* compositor, BatchTimings& timings);
+    void writeFrames();
+    FrameResult writeFrame(Job& job);
+};
+
+void Pipeline::readFrames() {
+    BatchTimings& timings = timings_[0];
+    for (std::size_t i = 0; i < s_.plan.frames.size(); ++i) {
+        if (!in_flight_.acquire()) break;
+        Job job = readFrame(i);
+        BoundedQueue<Job>& next = job.finished ? to_write_ : to_composite_;
+        StageTimer t{timings.read_wait_s};
+        if (!next.push(std::move(job))) break;
+    }
+    to_composite_.close();
+    producerDone();
+}
+
+Job Pipeline::readFrame(std::size_t index) {
+    const BatchRequest& request = s_.request;
+    Job job;
+    job.index = index;
+    job.frame = s_.plan.frames[index];
+    job.output = s_.plan.outputAt(job.frame);
+    if (request.resume && batch::frameDone(request, s_.plan, job.frame)) {
+        job.finished = FrameResult{job.frame, FrameStatus::Skipped, job.output, "", std::nullopt};
+        return job;
+    }
+    try {
+        FrameSources sources = batch::frameSources(request, s_.plan, job.frame);
+        sources.camera = s_.cameras.explicitCamera(job.frame);
+        FrameTargets targets{job.output, request.preview.empty() ? "" : pathAt(request.preview, job.frame),
+                             request.overwrite_input};
+        FrameOptions frame_options = s_.options;
+        frame_options.frame_number = double(job.frame);
+        job.work = std::make_unique<Frame>(std::move(sources), std::move(targets), std::move(frame_options));
+        StageTimer t{timings_[0].read_s};
+        job.work->read();
+    } catch (...) {
+        job.work.reset();
+        job.finished = failure(job.frame, job.output, std::current_exception());
+    }
+    return job;
+}
+
+void Pipeline::compositeFrames(int worker) {
+    BatchTimings& timings = timings_[std::size_t(worker) + 2];
+    Compositor* compositor = s_.request.io_only ? nullptr
+                                                : s_.devices[std::size_t(worker / s_.workers_per_device)]
+                                                      .compositors[std::size_t(worker % s_.workers_per_device)]
+                                                      .get();
+    while (auto job = to_composite_.pop()) {
+        compositeFrame(*job, compositor, timings);
+        if (!to_write_.push(std::move(*job))) break;
+    }
+    producerDone();
+}
+
+void Pipeline::compositeFrame(Job& job, Compositor* compositor, BatchTimings& timings) {
+    try {
+        {
+            StageTimer t{timings.prepare_s};
+            job.work->prepare(s_.scene, &sequence_);  // empty for --io-only: nothing to composite
+        }
+        if (compositor) {
+            StageTimer t{timings.composite_s};
+            job.work->composite(*compositor);
+            timings.kernels_ms += job.work->report().stats.totalKernelMs();
+        }
+        warnings_.add(job.frame, job.work->report().warnings);  // prepare's and composite's
+    } catch (...) {
+        job.work.reset();
+        job.finished = failure(job.frame, job.output, std::current_exception());
+    }
+}
+
+void Pipeline::writeFrames() {
+    BatchTimings& timings = timings_[1];
+    InOrder in_order;
+    bool stopped = false;
+    while (!stopped) {
+        std::optional<Job> arrived;
+        {
+            StageTimer t{timings.write_idle_s};
+            arrived = to_write_.pop();
+        }
+        if (!arrived) break;
+        in_order.add(std::move(*arrived));
+        while (!stopped) {
+            std::optional<Job> job = in_order.next();
+            if (!job) break;
+            const FrameResult result = job->finished ? *job->finished : writeFrame(*job);
+            job.reset();  // the frame's planes go before the next one is taken
+            stopped = result.status == FrameStatus::Failed && !s_.request.keep_going;
+            if (stopped) cancel();  // frames after the failure are dropped unwritten
+            results_.push(result);
+            in_flight_.release();
+        }
+    }
+    results_.close();
+}
+
+FrameResult Pipeline::writeFrame(Job& job) {
+    try {
+        StageTimer t{timings_[1].write_s};
+        const std::vector<std::string>& written = job.work->writeBack();
+        return FrameResult{job.frame, FrameStatus::Written, written.size() == 1 ? written.front() : job.output, "",
+                           std::nullopt};
+    } catch (...) {
+        return failure(job.frame, job.output, std::current_exception());
+    }
+}
+
+std::optional<FrameResult> Pipeline::run(BatchReport& report, BatchObserver& watch) {
+    const auto start = std::chrono::steady_clock::now();
+    producers_ = 1 + workers_;
+    threads_.emplace_back([this] { readFrames(); });
+    for (int w = 0; w < workers_; ++w) threads_.emplace_back([this, w] { compositeFrames(w); });
+    threads_.emplace_back([this] { writeFrames(); });
+
+    std::optional<FrameResult> stopped_by;
+    BatchProgress& p = report.progress;
+    while (auto result = results_.pop()) {
+        if (result->status == FrameStatus::Written) ++p.written;
+        else if (result->status == FrameStatus::Skipped) ++p.skipped;
+        else {
+            ++p.failed;
+            report.failures.push_back(*result);
+            if (!s_.request.keep_going) stopped_by = *result;
+        }
+        p.elapsed_s = secondsSince(start);
+        watch.frameFinished(*result, p);
+    }
+    for (std::thread& t : threads_) t.join();
+    p.elapsed_s = secondsSince(start);
+    return stopped_by;
+}
+
+BatchTimings Pipeline::timings() const {
+    BatchTimings sum;
+    for (const BatchTimings& t : timings_) {
+        sum.read_s += t.read_s, sum.prepare_s += t.prepare_s, sum.composite_s += t.composite_s;
+        sum.kernels_ms += t.kernels_ms, sum.write_s += t.write_s;
+        sum.read_wait_s += t.read_wait_s, sum.write_idle_s += t.write_idle_s;
+    }
+    return sum;
+}
+
+// The devices --device selects, with a compositor per worker each.
+std::vector<DeviceWorkers> setUpDevices(const BatchRequest& request, const DecalScene& scene, BatchReport& report) {
+    std::vector<DeviceWorkers> devices;
+    for (DeviceInfo& info : selectDevices(request.device)) {
+        DeviceWorkers& d = devices.emplace_back();
+        d.device = std::make_unique<ComputeDevice>(std::move(info));
+        report.devices.push_back(d.device->info().name);
+        for (int w = 0; w < std::max(1, request.composite_workers); ++w) {
+            d.compositors.push_back(std::make_unique<Compositor>(*d.device));
+            d.compositors.back()->setScene(scene);
+        }
+    }
+    return devices;
+}
+
 }  // namespace
 
 std::string BatchPlan::outputAt(int frame) const { return pathAt(output, frame); }
@@ -292,176 +504,33 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     const BatchPlan& plan = report.plan;
     report.progress.total = int(plan.frames.size());
 
-    // ---- set-up, once per batch ----
+    // ---- set-up, once per batch; nothing is written before the range's inputs are all there ----
     const FrameCameras cameras(request.camera, request.cameras);
     report.camera_source = cameras.describe();
+    if (!request.keep_going) batch::requireRangeInputs(request, plan, cameras);
     DecalScene scene;
     std::vector<DeviceWorkers> devices;
-    const int workers_per_device = std::max(1, request.composite_workers);
     if (!request.io_only) {
         scene = loadScene(request.scene);
-        if (!plan.frames.empty())
-            for (DeviceInfo& info : selectDevices(request.device)) {
-                DeviceWorkers& d = devices.emplace_back();
-                d.device = std::make_unique<ComputeDevice>(std::move(info));
-                report.devices.push_back(d.device->info().name);
-                for (int w = 0; w < workers_per_device; ++w) {
-                    d.compositors.push_back(std::make_unique<Compositor>(*d.device));
-                    d.compositors.back()->setScene(scene);
-                }
-            }
+        if (!plan.frames.empty()) devices = setUpDevices(request, scene, report);
     }
-    const int workers = request.io_only ? 1 : int(devices.size()) * workers_per_device;
     // After the scene: decoding its EXR textures through OpenImageIO may change the global count.
     Imf::setGlobalThreadCount(request.exr_threads > 0 ? request.exr_threads
                                                       : int(std::max(1u, std::thread::hardware_concurrency())));
-    createOutputFolders(request, plan);
-    removeStaleTemporaries(request, plan);
-    SequenceConventions sequence;  // depth and normal readings settled once for the sequence
-    WarningSet warnings;
+    batch::createOutputFolders(request, plan);
+    batch::removeStaleTemporaries(request, plan);
     FrameOptions options;
     options.mapping = request.mapping;
     options.compositing.binned = request.binned;
     options.label = request.input;  // warnings name the sequence, so each is reported once
 
-    // ---- the pipeline ----
-    const std::size_t depth = std::size_t(std::max(1, request.queue_depth));
-    BoundedQueue<Job> to_composite(depth), to_write(depth);
-    BoundedQueue<FrameResult> results(std::size_t(-1) / 2);
-    std::atomic<bool> cancelled{false};
-    std::atomic<int> live{0}, live_workers{workers};
-    auto finishThread = [&] {
-        if (--live == 0) results.close();
-    };
-    auto cancelAll = [&] {
-        cancelled = true;
-        to_composite.cancel();
-        to_write.cancel();
-    };
-    std::vector<std::thread> threads;
-    struct Joiner {
-        std::vector<std::thread>& threads;
-        std::function<void()> cancel;
-        ~Joiner() {
-            if (std::any_of(threads.begin(), threads.end(), [](const std::thread& t) { return t.joinable(); })) cancel();
-            for (std::thread& t : threads)
-                if (t.joinable()) t.join();
-        }
-    } joiner{threads, cancelAll};
-
-    // One timings record per thread, summed after the join.
-    std::vector<BatchTimings> thread_timings(std::size_t(workers) + 2);
-    BatchTimings& reader_timings = thread_timings[0];
-    BatchTimings& writer_timings = thread_timings[1];
-    const auto start = std::chrono::steady_clock::now();
+    // ---- the frames ----
+    Pipeline pipeline({request, plan, cameras, scene, devices, options, std::max(1, request.composite_workers)});
     watch.started(report);
-    live = 2 + workers;
-    threads.emplace_back([&] {  // reader
-        for (int frame : plan.frames) {
-            if (cancelled) break;
-            Job job;
-            job.frame = frame;
-            job.output = plan.outputAt(frame);
-            if (request.resume && frameDone(request, plan, frame)) {
-                results.push(FrameResult{frame, FrameStatus::Skipped, job.output, "", std::nullopt});
-                continue;
-            }
-            try {
-                FrameSources sources = frameSources(request, plan, frame);
-                sources.camera = cameras.explicitCamera(frame);
-                FrameTargets targets{job.output, request.preview.empty() ? "" : pathAt(request.preview, frame),
-                                     request.overwrite_input};
-                FrameOptions frame_options = options;
-                frame_options.frame_number = double(frame);
-                job.work = std::make_unique<Frame>(std::move(sources), std::move(targets), std::move(frame_options));
-                StageTimer t{reader_timings.read_s};
-                job.work->read();
-            } catch (...) {
-                results.push(failure(frame, job.output, std::current_exception()));
-                continue;
-            }
-            StageTimer t{reader_timings.read_wait_s};
-            if (!to_composite.push(std::move(job))) break;
-        }
-        to_composite.close();
-        finishThread();
-    });
-    for (int w = 0; w < workers; ++w)
-        threads.emplace_back([&, w] {  // compositing worker
-            BatchTimings& timings = thread_timings[std::size_t(w) + 2];
-            Compositor* compositor =
-                request.io_only ? nullptr
-                                : devices[std::size_t(w / workers_per_device)]
-                                      .compositors[std::size_t(w % workers_per_device)]
-                                      .get();
-            while (auto job = to_composite.pop()) {
-                try {
-                    {
-                        StageTimer t{timings.prepare_s};
-                        job->work->prepare(scene, &sequence);  // empty for --io-only: nothing to composite
-                    }
-                    warnings.add(job->frame, job->work->report().warnings);
-                    if (compositor) {
-                        StageTimer t{timings.composite_s};
-                        job->work->composite(*compositor);
-                        timings.kernels_ms += job->work->report().stats.totalKernelMs();
-                    }
-                } catch (...) {
-                    results.push(failure(job->frame, job->output, std::current_exception()));
-                    continue;
-                }
-                if (!to_write.push(std::move(*job))) break;
-            }
-            if (--live_workers == 0) to_write.close();
-            finishThread();
-        });
-    threads.emplace_back([&] {  // writer
-        while (true) {
-            std::optional<Job> job;
-            {
-                StageTimer t{writer_timings.write_idle_s};
-                job = to_write.pop();
-            }
-            if (!job) break;
-            try {
-                StageTimer t{writer_timings.write_s};
-                const std::vector<std::string>& written = job->work->writeBack();
-                const std::string output = written.size() == 1 ? written.front() : job->output;
-                job->work.reset();  // the frame's planes go before the next one is taken
-                results.push(FrameResult{job->frame, FrameStatus::Written, output, "", std::nullopt});
-            } catch (...) {
-                results.push(failure(job->frame, job->output, std::current_exception()));
-            }
-        }
-        finishThread();
-    });
-
-    std::optional<FrameResult> stopped_by;
-    while (auto result = results.pop()) {
-        if (cancelled) continue;  // frames finishing after a stop are not reported
-        BatchProgress& p = report.progress;
-        if (result->status == FrameStatus::Written) ++p.written;
-        else if (result->status == FrameStatus::Skipped) ++p.skipped;
-        else {
-            ++p.failed;
-            report.failures.push_back(*result);
-        }
-        p.elapsed_s = secondsSince(start);
-        watch.frameFinished(*result, p);
-        if (result->status == FrameStatus::Failed && !request.keep_going) {
-            stopped_by = *result;
-            cancelAll();
-        }
-    }
-    for (std::thread& t : threads) t.join();
-    report.progress.elapsed_s = secondsSince(start);
-    report.warnings = warnings.list();
-    for (const BatchTimings& t : thread_timings) {
-        BatchTimings& sum = report.timings;
-        sum.read_s += t.read_s, sum.prepare_s += t.prepare_s, sum.composite_s += t.composite_s;
-        sum.kernels_ms += t.kernels_ms, sum.write_s += t.write_s;
-        sum.read_wait_s += t.read_wait_s, sum.write_idle_s += t.write_idle_s;
-    }
+    const std::optional<FrameResult> stopped_by = pipeline.run(report, watch);
+    if (stopped_by) report.stopped_at = stopped_by->frame;
+    report.warnings = pipeline.warnings();
+    report.timings = pipeline.timings();
     watch.finished(report);
     if (stopped_by) {
         if (stopped_by->kind) throw Error(*stopped_by->kind, stopped_by->message);

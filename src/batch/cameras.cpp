@@ -88,6 +88,10 @@ std::optional<Camera> FrameCameras::explicitCamera(int frame) const {
     return std::nullopt;
 }
 
+std::string FrameCameras::sidecarPath(int frame) const { return pattern_ ? pattern_->path(frame) : std::string(); }
+
+bool FrameCameras::hasFrame(int frame) const { return per_frame_file_.empty() || per_frame_.count(frame) > 0; }
+
 std::string FrameCameras::describe() const {
     if (fixed_) return fixed_->source + " (every frame)";
     if (pattern_) return "sidecars " + pattern_->text();

@@ -103,8 +103,12 @@ void ProgressPrinter::finished(const BatchReport& report) {
     if (style_ == ProgressStyle::Quiet) return;
     const BatchProgress& p = report.progress;
     if (style_ == ProgressStyle::Bar && last_width_ > 0) out_ << '\n';
-    out_ << fmt::format("batch: {} written, {} skipped, {} failed of {} frames in {} ({:.2f} fps)\n", p.written,
-                        p.skipped, p.failed, p.total, formatDuration(p.elapsed_s), framesPerSecond(p))
+    std::string stop;
+    if (report.stopped_at)
+        stop = fmt::format("; stopped at frame {}, {} not processed (--keep-going goes on past failed frames)",
+                           *report.stopped_at, p.total - p.finished());
+    out_ << fmt::format("batch: {} written, {} skipped, {} failed of {} frames in {} ({:.2f} fps){}\n", p.written,
+                        p.skipped, p.failed, p.total, formatDuration(p.elapsed_s), framesPerSecond(p), stop)
          << std::flush;
 }
 

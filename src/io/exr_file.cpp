@@ -17,6 +17,7 @@
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_file.hpp"
+#include "decalcomp/temporary_files.hpp"
 #include "io/exr_layout.hpp"
 
 namespace decalcomp {
@@ -134,11 +135,6 @@ void writeParts(const ExrImage& image, const std::string& path) {
     for (int i = 0; i < int(image.parts.size()); ++i) writePart(file, image.parts[i], i);
 }
 
-// ".NAME.tmp-PID" beside the target, so the final rename stays within one file system.
-std::filesystem::path temporaryPathFor(const std::filesystem::path& target) {
-    return target.parent_path() / fmt::format(".{}.tmp-{}", target.filename().string(), ::getpid());
-}
-
 }  // namespace
 
 ExrImage readExr(const std::string& path) {
@@ -160,30 +156,23 @@ std::string writeExrTemporary(const ExrImage& image, const std::string& path) {
     if (image.parts.empty()) throw outputError(fmt::format("{}: nothing to write (no parts)", path));
     for (int i = 0; i < int(image.parts.size()); ++i) validatePart(image.parts[i], i, path);
 
-    const std::filesystem::path temporary = temporaryPathFor(path);
+    // Registered before the file exists, so a termination signal removes it (temporary_files.hpp).
+    const std::string temporary = temporaryPathFor(path);
+    createTemporary(temporary, path);
     try {
-        writeParts(image, temporary.string());
+        writeParts(image, temporary);
     } catch (const std::exception& e) {
-        std::error_code ignored;
-        std::filesystem::remove(temporary, ignored);
+        discardTemporary(temporary);
         throw outputError(fmt::format("{}: cannot write: {}", path, io::oneLine(e.what())));
     }
-    return temporary.string();
+    return temporary;
 }
 
 void commitExrTemporary(const std::string& temporary, const std::string& path) {
-    std::error_code ec;
-    std::filesystem::rename(temporary, path, ec);
-    if (ec) {
-        discardExrTemporary(temporary);
-        throw outputError(fmt::format("{}: cannot write: {}", path, ec.message()));
-    }
+    commitTemporaries({{temporary, path}});
 }
 
-void discardExrTemporary(const std::string& temporary) noexcept {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-}
+void discardExrTemporary(const std::string& temporary) noexcept { discardTemporary(temporary); }
 
 void writeExrAtomic(const ExrImage& image, const std::string& path) {
     commitExrTemporary(writeExrTemporary(image, path), path);

@@ -8,6 +8,7 @@
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/pipeline.hpp"
+#include "decalcomp/temporary_files.hpp"
 
 namespace decalcomp {
 
@@ -96,12 +97,14 @@ void checkRunFiles(const RunFiles& files, bool overwrite_inputs) {
 
 void writeOutputsTogether(const std::vector<PendingOutput>& outputs, const std::string* preview,
                           const std::function<void(const std::string&)>& write_preview) {
-    // Everything goes to temporary names first, so a failed write leaves none of the outputs behind.
-    std::string preview_tmp;
+    // Everything goes to registered temporaries first (decalcomp/temporary_files.hpp), renamed as one
+    // group, so a failed write or a termination signal leaves none of the outputs behind.
     std::vector<std::pair<std::string, std::string>> written;  // temporary, final
+    std::string preview_tmp;
     try {
         if (preview) {
-            preview_tmp = *preview + ".partial.png";
+            preview_tmp = temporaryPathFor(*preview);
+            createTemporary(preview_tmp, *preview);
             write_preview(preview_tmp);
         }
         for (const PendingOutput& output : outputs) {
@@ -110,23 +113,13 @@ void writeOutputsTogether(const std::vector<PendingOutput>& outputs, const std::
             if (output.create_folder && !parent.empty()) fs::create_directories(parent, ec);
             written.emplace_back(writeExrTemporary(*output.image, output.path), output.path);
         }
-        for (const auto& [temporary, final_path] : written) commitExrTemporary(temporary, final_path);
     } catch (...) {
-        for (const auto& [temporary, final_path] : written) discardExrTemporary(temporary);
-        if (!preview_tmp.empty()) {
-            std::error_code ec;
-            fs::remove(preview_tmp, ec);
-        }
+        for (const auto& [temporary, final_path] : written) discardTemporary(temporary);
+        if (!preview_tmp.empty()) discardTemporary(preview_tmp);
         throw;
     }
-    if (!preview_tmp.empty()) {
-        std::error_code ec;
-        fs::rename(preview_tmp, *preview, ec);
-        if (ec) {
-            fs::remove(preview_tmp, ec);
-            throw outputError(fmt::format("{}: cannot write preview: {}", *preview, ec.message()));
-        }
-    }
+    if (preview) written.emplace_back(preview_tmp, *preview);  // renamed after the EXRs
+    commitTemporaries(written);
 }
 
 }  // namespace decalcomp

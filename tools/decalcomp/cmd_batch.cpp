@@ -93,7 +93,9 @@ Command addBatchCommand(CLI::App& app) {
                     "OpenCL device(s): index, gpu, cpu or part of its name; several separated by ',', or all "
                     "(every GPU); frames are spread over them");
     cmd->add_flag("--resume", r.resume, "Skip frames whose output exists (outputs are written atomically)");
-    cmd->add_flag("--keep-going", r.keep_going, "Go on past failed frames; list them and exit non-zero at the end");
+    cmd->add_flag("--keep-going", r.keep_going,
+                  "Go on past failed frames; list them and exit non-zero at the end (without it every input "
+                  "of the range must exist, and the first failing frame stops the batch)");
     cmd->add_option("--shard", flags->shard,
                     "Process the I-th of N slices of the frames, I from 1 (default in a Slurm job array: from "
                     "SLURM_ARRAY_TASK_ID/COUNT/MIN)");

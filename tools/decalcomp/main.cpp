@@ -5,6 +5,7 @@
 
 #include "commands.hpp"
 #include "decalcomp/error.hpp"
+#include "decalcomp/temporary_files.hpp"
 
 namespace {
 
@@ -13,6 +14,7 @@ constexpr int kExitInternal = 1;
 }  // namespace
 
 int main(int argc, char** argv) {
+    decalcomp::installTerminationCleanup();  // SIGINT/SIGTERM/SIGHUP: remove temporaries, exit 128+N
     CLI::App app{"decalcomp: composite decals into rendered G-buffer EXRs on an OpenCL device"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "decalcomp 0.1.0");

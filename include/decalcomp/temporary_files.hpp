@@ -1,0 +1,42 @@
+#pragma once
+// Temporary files this process is writing (".NAME.tmp-PID" beside each output), known to a
+// termination signal handler so an interrupted run removes every one of them: outputs are written
+// to a temporary and renamed into place, so an output that exists is always complete.
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace decalcomp {
+
+// ".NAME.tmp-PID" beside `target`, so the final rename stays within one file system.
+std::string temporaryPathFor(const std::string& target);
+
+// Registers `path` as a live temporary, then creates it (empty, truncated if a stale one is
+// there), so a signal arriving at any moment after this call finds it and removes it. The caller
+// then writes the file under that name. Throws Error(Output) naming `output` (what the temporary
+// will become) when it cannot be created, the path is too long to keep, or too many temporaries
+// are live at once (256).
+void createTemporary(const std::string& path, const std::string& output);
+
+// Renames every temporary onto its final path, as one group: a termination signal arriving in
+// the middle finishes the renames instead of leaving some outputs of the group in place and others
+// removed. On a failed rename the temporaries not yet renamed are removed and Error(Output) names
+// the final path (the group's earlier renames stay).
+void commitTemporaries(const std::vector<std::pair<std::string, std::string>>& temporary_to_final);
+
+// Removes the temporary and forgets it.
+void discardTemporary(const std::string& path) noexcept;
+
+// How many temporaries are live (registered and neither committed nor discarded); for tests.
+int liveTemporaryCount() noexcept;
+
+// Async-signal-safe: removes every live temporary (finishing the renames of a group whose commit
+// had begun). For a host application's own signal handler; the one below calls it.
+void removeLiveTemporaries() noexcept;
+
+// Installs handlers for SIGINT, SIGTERM and SIGHUP that call removeLiveTemporaries, print one line
+// naming the signal and exit with 128 + the signal number (130, 143, 129). A signal the process
+// started with ignored (nohup, a background job) stays ignored. Call once, before starting threads.
+void installTerminationCleanup();
+
+}  // namespace decalcomp

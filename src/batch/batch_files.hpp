@@ -1,0 +1,41 @@
+#pragma once
+// The files of a batch's frames: what each frame reads, where its outputs go, whether it is done
+// (--resume), and the checks and clean-up done once before the frames start.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "decalcomp/batch.hpp"
+#include "decalcomp/frame.hpp"
+#include "decalcomp/frame_cameras.hpp"
+
+namespace decalcomp::batch {
+
+// A pattern's path for the frame; a path without a frame token names the same file every frame.
+std::string pathAt(const std::string& pattern_or_path, int frame);
+
+// The frame's EXR inputs: positional files and --pass files.
+FrameSources frameSources(const BatchRequest& request, const BatchPlan& plan, int frame);
+
+// The files a frame's outputs may be: the pattern's path, or for a folder each of its input
+// files' names there (which of them change is known only once the frame's channels are mapped).
+std::vector<std::filesystem::path> candidateOutputs(const BatchRequest& request, const BatchPlan& plan, int frame);
+
+// A frame is done when an output exists: the outputs of a frame are renamed into place together,
+// after all of them are complete.
+bool frameDone(const BatchRequest& request, const BatchPlan& plan, int frame);
+
+// Before any frame starts (without --keep-going): every input of every frame still to do exists
+// (positional and --pass files, camera sidecars, a camera in the per-frame cameras file). Throws
+// Error(Input) naming the first missing file and how many more are missing, before anything is
+// written.
+void requireRangeInputs(const BatchRequest& request, const BatchPlan& plan, const FrameCameras& cameras);
+
+// Creates the folders of every frame's outputs and previews; Error(Output) when one cannot be.
+void createOutputFolders(const BatchRequest& request, const BatchPlan& plan);
+
+// Temporaries (".NAME.tmp-PID", decalcomp/temporary_files.hpp) that a killed run left for this
+// plan's outputs and previews are removed; another shard's are left alone.
+void removeStaleTemporaries(const BatchRequest& request, const BatchPlan& plan);
+
+}  // namespace decalcomp::batch
