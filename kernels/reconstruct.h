@@ -44,7 +44,7 @@ inline bool dc_reconstruct(__constant const DcFrame* f, __global const float* de
             const float3 a = dc_unproject(f, ndc, -1.0f);
             p = (float3)(a.x, a.y, -d);
         } else {
-            const float3 q = dc_unproject(f, ndc, 1.0f); /* on the pixel's ray, in front */
+            const float3 q = dc_unproject(f, ndc, 0.0f); /* on the pixel's ray, in front: finite with an infinite far plane */
             p = (f->depth_convention == DC_DEPTH_RADIAL) ? normalize(q) * d : q * (d / -q.z);
         }
     }
@@ -81,7 +81,7 @@ inline bool dc_view_depth(__constant const DcFrame* f, __global const float* dep
 inline int dc_footprint(__constant const DcFrame* f, int x, int y, float3 p, float3 n, float3* p_dx, float3* p_dy) {
     for (int a = 0; a < 2; ++a) {
         const float2 ndc = dc_pixel_ndc(f, x + (a == 0), y + (a == 1));
-        const float3 far_point = dc_unproject(f, ndc, 1.0f);
+        const float3 far_point = dc_unproject(f, ndc, 0.0f); /* finite with an infinite far plane */
         const float3 origin = f->orthographic ? dc_unproject(f, ndc, -1.0f) : (float3)(0.0f);
         const float3 dir = far_point - origin;
         const float denom = dot(dir, n);

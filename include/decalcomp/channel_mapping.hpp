@@ -49,6 +49,7 @@ struct ChannelMapping {
     std::string profile;             // the profile that matched ("blender", "generic", ...)
     std::string layer;               // the layer "{layer}" stood for ("" when none)
     std::vector<std::string> notes;  // human-readable reasons, for `decalcomp info`
+    std::vector<std::string> warnings;  // a guess that may be wrong (a colour file given as depth)
     std::vector<ProfileCandidate> candidates;  // every profile's detection score, best first
     std::map<Attribute, std::vector<ChannelRef>> attributes;  // components in order
     DepthConvention depth_convention = DepthConvention::Planar;

@@ -139,6 +139,7 @@ struct DecalScene {
     std::vector<Texture2D> textures;
     std::vector<Decal> decals;  // in blend order
     std::vector<DecalMask> masks;  // distinct masks the decals refer to
+    std::vector<std::string> warnings;  // found while loading (duplicate decal names); the CLI prints them
 };
 
 // The scene as it is at `frame`: decals outside their lifetime are left out, the others get their

@@ -26,6 +26,7 @@ struct FrameSources {
     std::map<Attribute, std::string> pass_files;  // --pass ATTR=FILE: the attribute comes from FILE only
     std::optional<Camera> camera;                 // explicit camera; else camera_json
     std::string camera_json;                      // sidecar; else the first header's, else solved
+    std::string camera_file;                      // the file `camera` was read from (outputs may not replace it)
 };
 
 // Where a frame's results go.
@@ -50,6 +51,7 @@ struct FrameReport {
     NormalCheck normal_check;                       // normal space/encoding against the depth pass
     ChannelMapping mapping;
     CompositeStats stats;
+    std::size_t changed_samples = 0;    // channel samples the decals changed (0: a warning)
     std::vector<std::string> outputs;   // the EXR files written
     std::vector<std::string> warnings;  // e.g. a mask name that matches nothing; the CLI prints them
 };

@@ -26,6 +26,8 @@ public:
     std::string sidecarPath(int frame) const;
     bool hasFrame(int frame) const;
     const std::string& perFrameFile() const { return per_frame_file_; }
+    // The file `frame`'s explicit camera is read from ("" without one), so no output may replace it.
+    std::string cameraFile(int frame) const;
 
 private:
     std::optional<Camera> fixed_;

@@ -36,10 +36,11 @@ GBuffer extractGBuffer(const std::vector<ExrImage>& files, const ChannelMapping&
 
 // Writes a float plane (over frameWindow()) back into the attribute's mapped channels, converting
 // to each channel's own sample type; channel pixels outside the G-buffer window are left alone.
-// Pixels whose float value equals the original conversion stay bit-exact.
-void storeAttribute(ExrImage& image, const ChannelMapping& mapping, Attribute attribute,
-                    const Plane& plane);
-void storeAttribute(std::vector<ExrImage>& files, const ChannelMapping& mapping, Attribute attribute,
+// Pixels whose float value equals the original conversion stay bit-exact. Returns how many
+// samples changed.
+std::size_t storeAttribute(ExrImage& image, const ChannelMapping& mapping, Attribute attribute,
+                           const Plane& plane);
+std::size_t storeAttribute(std::vector<ExrImage>& files, const ChannelMapping& mapping, Attribute attribute,
                     const Plane& plane);
 
 }  // namespace decalcomp

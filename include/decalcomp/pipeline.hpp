@@ -45,6 +45,11 @@ bool isOutputFolder(const std::string& path);
 std::vector<std::string> missingAttributeWarnings(const std::vector<Attribute>& attributes, const ChannelMapping& mapping,
                                                   const std::string& input);
 
+// Warnings about the depth pass: every pixel background (nothing can be decaled), NaN or
+// negative depths. `depth_channel` names the channel in the messages ("" when none).
+std::vector<std::string> depthWarnings(const GBuffer& gbuffer, const Camera& camera, const std::string& depth_channel,
+                                       const std::string& label);
+
 // Whether two paths name one file: by inode when both exist (symlinks and hard links count),
 // else by their absolute, normalised paths.
 bool sameFile(const std::string& a, const std::string& b);

@@ -326,6 +326,7 @@ Job Pipeline::readFrame(std::size_t index) {
     try {
         FrameSources sources = batch::frameSources(request, s_.plan, job.frame);
         sources.camera = s_.cameras.explicitCamera(job.frame);
+        sources.camera_file = s_.cameras.cameraFile(job.frame);
         FrameTargets targets{job.output, request.preview.empty() ? "" : pathAt(request.preview, job.frame),
                              request.overwrite_input};
         FrameOptions frame_options = s_.options;

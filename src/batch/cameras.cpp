@@ -4,6 +4,7 @@
 
 #include <cctype>
 
+#include "decalcomp/camera_json.hpp"
 #include "decalcomp/frame_cameras.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/json_fields.hpp"
@@ -17,8 +18,8 @@ using json = nlohmann::json;
 Camera frameCamera(const JsonField& entry, const std::optional<glm::dmat4>& default_projection, int frame) {
     entry.requireObject("an object with world_to_camera (and projection)");
     Camera c;
-    c.world_to_camera = entry.required("world_to_camera").invertibleMatrix4();
-    if (const auto projection = entry.optional("projection")) c.projection = projection->invertibleMatrix4();
+    c.world_to_camera = readWorldToCamera(entry.required("world_to_camera"));
+    if (const auto projection = entry.optional("projection")) c.projection = readProjection(*projection);
     else if (default_projection) c.projection = *default_projection;
     else entry.fail("missing 'projection' (and no top-level 'projection' for every frame)");
     c.source = fmt::format("{} (frame {})", entry.file(), frame);
@@ -43,7 +44,7 @@ std::map<int, Camera> loadPerFrameCameras(const std::string& file) {
     const JsonField root(doc, file);
     if (!doc.is_object() || !doc.contains("frames")) root.fail("expected an object with \"frames\" (a camera per frame)");
     std::optional<glm::dmat4> projection;
-    if (const auto p = root.optional("projection")) projection = p->invertibleMatrix4();
+    if (const auto p = root.optional("projection")) projection = readProjection(*p);
     std::map<int, Camera> cameras;
     const JsonField frames = root.required("frames");
     auto add = [&](int frame, const JsonField& entry) {
@@ -86,6 +87,12 @@ std::optional<Camera> FrameCameras::explicitCamera(int frame) const {
         return it->second;
     }
     return std::nullopt;
+}
+
+std::string FrameCameras::cameraFile(int frame) const {
+    if (fixed_) return fixed_->source;
+    if (pattern_) return pattern_->path(frame);
+    return per_frame_file_;
 }
 
 std::string FrameCameras::sidecarPath(int frame) const { return pattern_ ? pattern_->path(frame) : std::string(); }

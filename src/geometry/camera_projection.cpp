@@ -3,6 +3,7 @@
 #include "decalcomp/camera.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace decalcomp {
 
@@ -21,6 +22,8 @@ double Camera::nearPlane() const {
 double Camera::farPlane() const {
     const double a = projection[2][2], b = projection[3][2];
     if (isOrthographic()) return (b - 1.0) / a;
+    // An infinite projection (z row 0 0 -1 -2n) maps only infinity to ndc 1.
+    if (std::abs(a + 1.0) <= 1e-12 * std::abs(a)) return std::numeric_limits<double>::infinity();
     return b / (a + 1.0);
 }
 

@@ -61,7 +61,7 @@ std::optional<glm::dvec3> pixelCameraPoint(const GBuffer& g, const Camera& camer
             const glm::dvec3 a = unprojectNdc(inverse_projection, ndc, -1.0);
             p = glm::dvec3(a.x, a.y, -d);
         } else {
-            const glm::dvec3 q = unprojectNdc(inverse_projection, ndc, 1.0);  // on the ray, in front
+            const glm::dvec3 q = unprojectNdc(inverse_projection, ndc, 0.0);  // on the ray, in front; finite if far = inf
             p = g.depth_convention == DepthConvention::Radial ? glm::normalize(q) * d : q * (d / -q.z);
         }
     }

@@ -249,7 +249,7 @@ void recordFound(ChannelMapping& mapping, Attribute attribute, const Found& foun
         const std::string& space =
             found.spelling && !found.spelling->space.empty() ? found.spelling->space : profile->normal_space;
         mapping.normals.space = space == "camera" ? NormalSpace::Camera : NormalSpace::World;
-        mapping.normals.packed = profile->normal_encoding == "unsigned";
+        mapping.normals.packed = profile->normal_encoding == "packed";
     }
 }
 
@@ -320,6 +320,26 @@ std::optional<Found> bareChannels(const ChannelIndex& index, Attribute attribute
     return std::nullopt;
 }
 
+bool isAlphaName(const std::string& name) {
+    const std::string component = name.substr(name.rfind('.') + 1);
+    return component == "A" || component == "a" || component == "alpha";
+}
+
+// A pass file with more (non-alpha) channels than the attribute takes is probably another pass:
+// an RGB file given as depth yields "depth = R" and composites on nonsense surfaces.
+std::optional<std::string> unusedChannelsWarning(const ChannelIndex& index, Attribute attribute, const Found& found,
+                                                 const std::string& path) {
+    std::vector<std::string> unused;
+    for (const auto& [name, ref] : index.refs)
+        if (!isAlphaName(name) && std::find(found.names.begin(), found.names.end(), name) == found.names.end())
+            unused.push_back(name);
+    if (unused.empty()) return std::nullopt;
+    const std::string attribute_name = attributeName(attribute);
+    return fmt::format("{}: --pass {}: took {} for {} but the file also has {}; if it is another pass, check the "
+                       "--pass attribute, or name the channels with --channel {}=...",
+                       path, attribute_name, joined(found.names), attribute_name, joined(unused), attribute_name);
+}
+
 void mapPassFile(const Files& files, int file, Attribute attribute, const ChannelProfile& chosen,
                  const std::vector<ChannelProfile>& profiles, const MappingOptions& options, ChannelMapping& mapping) {
     const ChannelIndex index = indexFiles(files, {file});
@@ -348,6 +368,7 @@ void mapPassFile(const Files& files, int file, Attribute attribute, const Channe
     }
     if (auto found = bareChannels(index, attribute, path)) {
         recordFound(mapping, attribute, *found, fmt::format("--pass {}, by component names", path), &chosen);
+        if (auto warning = unusedChannelsWarning(index, attribute, *found, path)) mapping.warnings.push_back(*warning);
         return;
     }
     std::vector<std::string> names;
@@ -428,7 +449,7 @@ ChannelMapping mapFiles(const Files& files, const MappingOptions& options, const
     if (mapping.attributes.count(Attribute::Normal) &&
         (mapping.normals.space != NormalSpace::World || mapping.normals.packed))
         mapping.notes.push_back(fmt::format("normal: {} space, {}", normalSpaceName(mapping.normals.space),
-                                            mapping.normals.packed ? "unsigned" : "signed"));
+                                            mapping.normals.packed ? "packed" : "signed"));
     chooseDepthConvention(options, profile, mapping);
     return mapping;
 }

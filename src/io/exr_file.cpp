@@ -17,8 +17,10 @@
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_file.hpp"
+#include "decalcomp/input_file.hpp"
 #include "decalcomp/temporary_files.hpp"
 #include "io/exr_layout.hpp"
+#include "io/exr_plausibility.hpp"
 
 namespace decalcomp {
 
@@ -31,6 +33,7 @@ std::string partLabel(const Imf::Header& header, int index) {
 
 // Checks the magic number first so a text file gets a plain answer, not a library message.
 void requireExrMagic(const std::string& path) {
+    requireInputFile(path, "EXR file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw inputError(fmt::format("{}: cannot open ({})", path, std::strerror(errno)));
     char magic[4] = {};
@@ -139,6 +142,7 @@ void writeParts(const ExrImage& image, const std::string& path) {
 
 ExrImage readExr(const std::string& path) {
     requireExrMagic(path);
+    io::requirePlausibleExr(path);
     ExrImage image;
     image.path = path;
     try {

@@ -152,7 +152,8 @@ GBuffer extract(const Files& files, const ChannelMapping& mapping) {
 
 bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-void store(const std::vector<ExrImage*>& files, const ChannelMapping& mapping, Attribute attribute, const Plane& plane) {
+std::size_t store(const std::vector<ExrImage*>& files, const ChannelMapping& mapping, Attribute attribute,
+                  const Plane& plane) {
     Files view(files.begin(), files.end());
     const std::string label = attributeName(attribute);
     auto found = mapping.attributes.find(attribute);
@@ -169,6 +170,7 @@ void store(const std::vector<ExrImage*>& files, const ChannelMapping& mapping, A
         throw outputError(fmt::format("{}: {}: plane has {} samples, the G-buffer window {} has {} pixels",
                                       files.front()->path, label, plane.samples.size(), windowText(window),
                                       width * height));
+    std::size_t changed = 0;
     for (int c = 0; c < plane.components; ++c) {
         channelAt(view, refs[c], label);  // range check before taking a mutable reference
         ExrImage& image = *files[refs[c].file];
@@ -179,9 +181,12 @@ void store(const std::vector<ExrImage*>& files, const ChannelMapping& mapping, A
         // Only changed pixels are re-encoded, so untouched ones keep their exact original bits.
         forEachOverlapPixel(window, dw, [&](std::size_t frame, std::size_t sample) {
             const float value = plane.at(frame, c);
-            if (!sameBits(value, io::sampleAsFloat(channel, sample))) io::storeSample(channel, sample, value);
+            if (sameBits(value, io::sampleAsFloat(channel, sample))) return;
+            io::storeSample(channel, sample, value);
+            ++changed;
         });
     }
+    return changed;
 }
 
 }  // namespace
@@ -207,15 +212,15 @@ GBuffer extractGBuffer(const std::vector<ExrImage>& files, const ChannelMapping&
     return extract(view, mapping);
 }
 
-void storeAttribute(ExrImage& image, const ChannelMapping& mapping, Attribute attribute, const Plane& plane) {
-    store({&image}, mapping, attribute, plane);
+std::size_t storeAttribute(ExrImage& image, const ChannelMapping& mapping, Attribute attribute, const Plane& plane) {
+    return store({&image}, mapping, attribute, plane);
 }
 
-void storeAttribute(std::vector<ExrImage>& files, const ChannelMapping& mapping, Attribute attribute,
-                    const Plane& plane) {
+std::size_t storeAttribute(std::vector<ExrImage>& files, const ChannelMapping& mapping, Attribute attribute,
+                           const Plane& plane) {
     std::vector<ExrImage*> view;
     for (ExrImage& f : files) view.push_back(&f);
-    store(view, mapping, attribute, plane);
+    return store(view, mapping, attribute, plane);
 }
 
 }  // namespace decalcomp

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include "decalcomp/error.hpp"
@@ -106,8 +107,12 @@ struct ClipRange {
 ClipRange clipRange(const Imf::Header& header, const std::string& file, bool perspective) {
     const double n = findScalar(header, "clipNear", file).value_or(kDefaultNear);
     const double f = findScalar(header, "clipFar", file).value_or(kDefaultFar);
-    if (!std::isfinite(n) || !std::isfinite(f) || f <= n || (perspective && n <= 0.0))
-        throw inputError(fmt::format("{}: clipNear/clipFar: invalid range [{}, {}]", file, n, f));
+    // A perspective camera may have an infinite far plane (clipFar = inf).
+    const bool far_ok = std::isfinite(f) || (perspective && f == std::numeric_limits<double>::infinity());
+    if (!std::isfinite(n) || !far_ok || f <= n || (perspective && n <= 0.0))
+        throw inputError(fmt::format("{}: clipNear/clipFar: invalid range [{}, {}]: far must be beyond near (and "
+                                     "near > 0 for a perspective camera)",
+                                     file, n, f));
     return {n, f};
 }
 
@@ -130,7 +135,8 @@ void finishProjection(glm::dmat4& p, const Imf::Header& header, const std::strin
     const double n = range.near_plane, f = range.far_plane;
     if (perspective) {
         setRow(p, 3, {0.0, 0.0, -1.0, 0.0});
-        setRow(p, 2, {0.0, 0.0, -(f + n) / (f - n), -2.0 * f * n / (f - n)});
+        if (std::isinf(f)) setRow(p, 2, {0.0, 0.0, -1.0, -2.0 * n});  // the limit as far -> infinity
+        else setRow(p, 2, {0.0, 0.0, -(f + n) / (f - n), -2.0 * f * n / (f - n)});
     } else {
         setRow(p, 3, {0.0, 0.0, 0.0, 1.0});
         setRow(p, 2, {0.0, 0.0, -2.0 / (f - n), -(f + n) / (f - n)});

@@ -65,6 +65,14 @@ struct IdPass {
     Plane storage;
 };
 
+// "FILE channel NAME" of the mapped object-id pass, for messages.
+std::string idChannelName(const Files& files, const ChannelMapping& mapping, const std::vector<std::string>& labels) {
+    const auto mapped = mapping.attributes.find(Attribute::ObjectId);
+    if (mapped == mapping.attributes.end() || mapped->second.empty()) return "none mapped";
+    const ChannelRef& ref = mapped->second.front();
+    return fmt::format("{} channel {}", shownName(files, labels, std::size_t(ref.file)), channelOf(files, ref).qualified);
+}
+
 // The object-id plane and its checks, only when some mask uses ids.
 void prepareIdPass(const Files& files, const ChannelMapping& mapping, const DecalScene& scene, const GBuffer& frame,
                    const Imath::Box2i& window, IdPass& pass, std::vector<std::string>* warnings,
@@ -121,7 +129,9 @@ void prepareIdPass(const Files& files, const ChannelMapping& mapping, const Deca
                                         shownName(files, labels, std::size_t(ref.file)), channel.qualified));
 }
 
-void applyIdMask(const DecalMask& mask, const Plane& ids, std::vector<float>& weights) {
+// Returns whether any pixel holds one of the mask's `ids` (true for a pure exclude mask).
+bool applyIdMask(const DecalMask& mask, const Plane& ids, std::vector<float>& weights) {
+    bool any_included = mask.include_ids.empty();
     for (std::size_t i = 0; i < weights.size(); ++i) {
         const float v = ids.samples[i];
         bool pass = false;
@@ -129,6 +139,7 @@ void applyIdMask(const DecalMask& mask, const Plane& ids, std::vector<float>& we
             const long long id = std::llround(v);
             const bool included = mask.include_ids.empty() ||
                                   std::binary_search(mask.include_ids.begin(), mask.include_ids.end(), id);
+            any_included |= included;
             const bool excluded = std::binary_search(mask.exclude_ids.begin(), mask.exclude_ids.end(), id);
             pass = included && !excluded;
         } else {
@@ -136,6 +147,7 @@ void applyIdMask(const DecalMask& mask, const Plane& ids, std::vector<float>& we
         }
         if (!pass) weights[i] = 0.0f;
     }
+    return any_included;
 }
 
 
@@ -410,7 +422,12 @@ void evaluateMasks(const std::vector<ExrImage>& files, const ChannelMapping& map
     for (int m = 0; m < int(scene.masks.size()); ++m) {
         const DecalMask& mask = scene.masks[std::size_t(m)];
         Plane plane{1, std::vector<float>(frame.pixelCount(), 1.0f)};
-        if (!mask.include_ids.empty() || !mask.exclude_ids.empty()) applyIdMask(mask, *id_pass.plane, plane.samples);
+        if ((!mask.include_ids.empty() || !mask.exclude_ids.empty()) &&
+            !applyIdMask(mask, *id_pass.plane, plane.samples) && warnings)
+            warnings->push_back(fmt::format("{}: {}: mask.ids [{}]: no pixel holds these object ids, so the decal "
+                                            "changes nothing; check the ids against the object-id pass ({})",
+                                            shownName(files, file_labels, 0), decalsUsing(scene, m),
+                                            fmt::join(mask.include_ids, ", "), idChannelName(files, mapping, file_labels)));
         if (!mask.cryptomatte_layer.empty()) {
             const CryptomatteLayer& meta =
                 findLayer(layers, mask.cryptomatte_layer, mapping, label, decalsUsing(scene, m));

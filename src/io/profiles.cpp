@@ -142,7 +142,8 @@ ChannelProfile parseProfileJson(const JsonField& doc) {
         normal->checkKeys(withComment({"space", "encoding"}));
         if (const auto space = normal->optional("space")) profile.normal_space = spaceOf(*space);
         if (const auto encoding = normal->optional("encoding"))
-            profile.normal_encoding = encoding->choice({"signed", "unsigned"}) == 0 ? "signed" : "unsigned";
+            // The CLI's words (--normals SPACE,signed|packed); "unsigned" is the older spelling of packed.
+            profile.normal_encoding = encoding->choice({"signed", "packed", "unsigned"}) == 0 ? "signed" : "packed";
     }
     const JsonField attributes = doc.required("attributes");
     attributes.requireObject("an object keyed by attribute");

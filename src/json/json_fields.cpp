@@ -1,6 +1,8 @@
 // JSON field readers shared by every parser (include/decalcomp/json_fields.hpp).
 #include "decalcomp/json_fields.hpp"
 
+#include "decalcomp/input_file.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -53,6 +55,65 @@ std::string parseReason(std::string reason) {
     return out;
 }
 
+// Follows the JSON path through a SAX parse, to say which field a parse error (a number beyond a
+// double's range) stopped at; DOM parsing only knows the byte.
+class PathTracker : public nlohmann::json_sax<json> {
+public:
+    const std::string& errorPath() const { return error_path_; }
+
+    bool null() override { return scalar(); }
+    bool boolean(bool) override { return scalar(); }
+    bool number_integer(number_integer_t) override { return scalar(); }
+    bool number_unsigned(number_unsigned_t) override { return scalar(); }
+    bool number_float(number_float_t, const string_t&) override { return scalar(); }
+    bool string(string_t&) override { return scalar(); }
+    bool binary(binary_t&) override { return scalar(); }
+    bool start_object(std::size_t) override { return open(false); }
+    bool start_array(std::size_t) override { return open(true); }
+    bool key(string_t& key) override {
+        levels_.back().key = key;
+        return true;
+    }
+    bool end_object() override { return close(); }
+    bool end_array() override { return close(); }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+        error_path_ = valuePath();
+        return false;
+    }
+
+private:
+    struct Level {
+        bool array = false;
+        std::size_t index = 0;
+        std::string key, path;
+    };
+    std::string valuePath() const {
+        if (levels_.empty()) return "";
+        const Level& top = levels_.back();
+        return top.array ? jsonIndexPath(top.path, top.index) : jsonKeyPath(top.path, top.key);
+    }
+    bool scalar() {
+        if (!levels_.empty() && levels_.back().array) ++levels_.back().index;
+        return true;
+    }
+    bool open(bool array) {
+        levels_.push_back({array, 0, "", valuePath()});
+        return true;
+    }
+    bool close() {
+        levels_.pop_back();
+        return scalar();
+    }
+    std::vector<Level> levels_;
+    std::string error_path_;
+};
+
+std::string failingJsonPath(const std::string& text) {
+    PathTracker tracker;
+    json::sax_parse(text, &tracker, json::input_format_t::json, /*strict=*/true, /*ignore_comments=*/true);
+    return tracker.errorPath();
+}
+
 }  // namespace
 
 std::string jsonKeyPath(const std::string& parent, const std::string& key) {
@@ -83,15 +144,25 @@ json parseJsonText(const std::string& text, const std::string& source) {
         const auto [line, column] = lineAndColumn(text, e.byte);
         throw inputError(
             fmt::format("{}: not valid JSON at line {} column {} ({})", source, line, column, parseReason(e.what())));
-    } catch (const json::exception& e) {  // e.g. a number too large for a double
+    } catch (const json::out_of_range& e) {  // a number too large for a double: say where it is
+        const std::string reason = e.what();
+        const std::size_t open = reason.find('\''), close = reason.rfind('\'');
+        const std::string number = open < close ? reason.substr(open + 1, close - open - 1) : "";
+        const std::size_t at = number.empty() ? std::string::npos : text.find(number);
+        if (at == std::string::npos)
+            throw inputError(fmt::format("{}: not valid JSON ({})", source, parseReason(reason)));
+        const auto [line, column] = lineAndColumn(text, at + 1);
+        const std::string path = failingJsonPath(text);
+        throw inputError(fmt::format("{}: {}line {} column {}: the number {} is out of range (a double holds up to "
+                                     "about 1.8e308)",
+                                     source, path.empty() ? "" : path + ": ", line, column, number));
+    } catch (const json::exception& e) {
         throw inputError(fmt::format("{}: not valid JSON ({})", source, parseReason(e.what())));
     }
 }
 
 json readJsonFile(const std::string& file, const std::string& what) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec))
-        throw inputError(fmt::format("{}: cannot open the {}: no such file", file, what));
+    requireInputFile(file, what);
     std::ifstream in(file, std::ios::binary);
     std::stringstream buffer;
     buffer << in.rdbuf();

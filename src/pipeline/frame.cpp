@@ -10,6 +10,17 @@
 
 namespace decalcomp {
 
+namespace {
+
+// The depth pass's channel as `info` shows it ("ViewLayer.Depth.Z"), "" without one.
+std::string depthChannelName(const std::vector<ExrImage>& files, const ChannelMapping& mapping) {
+    const auto found = mapping.attributes.find(Attribute::Depth);
+    if (found == mapping.attributes.end() || found->second.empty()) return "";
+    const ChannelRef& ref = found->second.front();
+    return files.at(std::size_t(ref.file)).parts.at(std::size_t(ref.part)).channels.at(std::size_t(ref.channel)).qualified;
+}
+
+}  // namespace
 
 Frame::Frame(FrameSources sources, FrameTargets targets, FrameOptions options)
     : sources_(std::move(sources)), targets_(std::move(targets)), options_(std::move(options)) {
@@ -41,22 +52,36 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
     attributes_ = compositedAttributes(scene);
     report_.warnings =
         missingAttributeWarnings(attributes_, mapping, options_.label.empty() ? input : options_.label);
+    report_.warnings.insert(report_.warnings.end(), mapping.warnings.begin(), mapping.warnings.end());
+    report_.warnings.insert(report_.warnings.end(), scene.warnings.begin(), scene.warnings.end());
     outputs_ = outputPaths(files_, mapping, attributes_, targets_.output);
     RunFiles run;
     for (const auto& [file, path] : outputs_) run.exr_outputs.push_back(path);
     run.preview = targets_.preview;
     for (const ExrImage& image : files_) run.exr_inputs.push_back(image.path);
-    run.other_reads = {scene.source, sources_.camera_json};
+    run.other_reads = {scene.source, sources_.camera_json, sources_.camera_file};
     for (const std::string& profile : options_.mapping.profile_files) run.other_reads.push_back(profile);
     for (const Texture2D& texture : scene.textures) run.other_reads.push_back(texture.source);
     for (const CryptomatteLayer& layer : cryptomatteLayers(files_))  // sidecar manifests ("" for none)
         run.other_reads.push_back(cryptomatteSidecarPath(layer));
     checkRunFiles(run, targets_.overwrite_input);
 
+    // (A scene built in code with no decals, as batch --io-only passes, asked for nothing.)
+    if (decals_.empty() && !(scene.decals.empty() && scene.source.empty()))
+        report_.warnings.push_back(
+            scene.decals.empty()
+                ? fmt::format("{}: decals: the scene has no decals; the output is the input unchanged", scene.source)
+                : fmt::format("{}: no decal is alive on this frame (their frames, fade_in, fade_out); the output is "
+                              "the input unchanged",
+                              options_.label.empty() ? input : options_.label));
     if (decals_.empty() && targets_.preview.empty()) {  // nothing alive on this frame: written as read
         prepared_ = true;
         return;
     }
+    if (!mapping.attributes.count(Attribute::Depth) && !mapping.attributes.count(Attribute::Position))
+        throw inputError(fmt::format("{}: no depth pass found (profile {}): name its channel with --channel "
+                                     "depth=CHANNEL, or read it from its own file with --pass depth=FILE",
+                                     input, mapping.profile));
     gbuffer_ = extractGBuffer(files_, mapping);
     CameraSolveReport solve;
     camera_ = sources_.camera ? *sources_.camera : resolveCamera(files_, gbuffer_, sources_.camera_json, &solve);
@@ -68,6 +93,9 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
         report_.depth_check = settleDepthConvention(gbuffer_, mapping, camera_);
         report_.normal_check = settleNormalEncoding(gbuffer_, mapping, camera_);
     }
+    const std::string label = options_.label.empty() ? input : options_.label;
+    for (std::string& warning : depthWarnings(gbuffer_, camera_, depthChannelName(files_, mapping), label))
+        report_.warnings.push_back(std::move(warning));
     // Decal masks for this frame; their warnings name the first input by the label, as above.
     evaluateMasks(files_, mapping, scene, gbuffer_, &report_.warnings, {options_.label});
     prepared_ = true;
@@ -79,9 +107,16 @@ void Frame::composite(Compositor& compositor) {
     if (!targets_.preview.empty()) before_ = gbuffer_;
     if (animated_) compositor.setDecals(decals_);  // textures stay on the device
     report_.stats = compositor.composite(gbuffer_, camera_, options_.compositing);
+    std::size_t changed = 0;
     for (Attribute attribute : attributes_)
         if (gbuffer_.has(attribute))
-            storeAttribute(files_, report_.mapping, attribute, gbuffer_.planes.at(attribute));
+            changed += storeAttribute(files_, report_.mapping, attribute, gbuffer_.planes.at(attribute));
+    report_.changed_samples = changed;
+    if (changed == 0)
+        report_.warnings.push_back(fmt::format(
+            "{}: no decal changed any pixel: check that the decals' boxes reach visible surfaces (position, size, "
+            "projection axis), their masks, and the camera",
+            options_.label.empty() ? sources_.inputs.front() : options_.label));
 }
 
 const std::vector<std::string>& Frame::writeBack() {

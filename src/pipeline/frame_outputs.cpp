@@ -53,11 +53,27 @@ std::map<int, std::string> outputPaths(const std::vector<ExrImage>& files, const
     return paths;
 }
 
+namespace {
+
+// Where a path that may not exist yet would land: symbolic links followed, dangling ones too
+// (writing through a dangling link creates its target), up to a bound that stops link loops.
+fs::path landingPath(const std::string& path) {
+    std::error_code ec;
+    fs::path p = fs::absolute(path, ec);
+    for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
+        const fs::path target = fs::read_symlink(p, ec);
+        if (ec) break;
+        p = target.is_absolute() ? target : p.parent_path() / target;
+    }
+    return fs::weakly_canonical(p, ec).lexically_normal();
+}
+
+}  // namespace
+
 bool sameFile(const std::string& a, const std::string& b) {
     std::error_code ec;
     if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
-    const fs::path pa = fs::absolute(a, ec).lexically_normal(), pb = fs::absolute(b, ec).lexically_normal();
-    return pa == pb;
+    return landingPath(a) == landingPath(b);
 }
 
 namespace {

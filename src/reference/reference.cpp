@@ -53,7 +53,7 @@ std::optional<glm::dvec3> cameraPoint(const GBuffer& f, const Camera& camera, in
         case DepthConvention::Radial: {
             if (depth_background) return std::nullopt;
             const glm::dvec3 near_point = unproject(inverse_projection, ndc, -1.0);
-            const glm::dvec3 far_point = unproject(inverse_projection, ndc, 1.0);
+            const glm::dvec3 far_point = unproject(inverse_projection, ndc, 0.0);  // finite if far = inf
             const glm::dvec3 dir = far_point - near_point;
             if (perspective && f.depth_convention == DepthConvention::Radial) {
                 p = glm::normalize(dir) * d;  // the ray leaves the camera origin
@@ -455,7 +455,7 @@ Footprint pixelFootprint(const GBuffer& f, const Camera& camera, const glm::dmat
     Footprint fp;
     for (int a = 0; a < 2; ++a) {
         const glm::dvec2 ndc = pixelNdc(f, x + (a == 0), y + (a == 1));
-        const glm::dvec3 far_cam = unproject(inverse_projection, ndc, 1.0);
+        const glm::dvec3 far_cam = unproject(inverse_projection, ndc, 0.0);  // finite if far = inf
         const glm::dvec3 origin_cam = camera.isOrthographic() ? unproject(inverse_projection, ndc, -1.0) : glm::dvec3(0.0);
         const glm::dvec3 origin(camera_to_world * glm::dvec4(origin_cam, 1.0));
         const glm::dvec3 dir(camera_to_world * glm::dvec4(far_cam - origin_cam, 0.0));

@@ -102,6 +102,7 @@ public:
 
         DecalScene scene;
         scene.masks = masks_;
+        scene.warnings = duplicateNameWarnings(decals);
         for (ParsedDecal& p : parsed) {
             auto index = [&](const std::optional<TextureRequest>& r) { return r ? textureIndex(*r, scene) : -1; };
             p.decal.albedo_texture = index(p.texture.albedo);
@@ -117,6 +118,22 @@ public:
     }
 
 private:
+    // Names identify decals in reports, so two decals of one name are probably a copy-paste slip.
+    std::vector<std::string> duplicateNameWarnings(const JsonField& decals) const {
+        std::vector<std::string> warnings;
+        std::map<std::string, std::string> first_path;  // name -> the decal that has it first
+        for (const JsonField& decal : decals.elements()) {
+            const auto name = decal.optionalString("name");
+            if (!name) continue;
+            const auto [it, inserted] = first_path.emplace(*name, decal.path());
+            if (!inserted)
+                warnings.push_back(fmt::format("{}: {}.name: '{}' is also the name of {}; give each decal its own name "
+                                               "so reports and warnings can tell them apart",
+                                               file_, decal.path(), *name, it->second));
+        }
+        return warnings;
+    }
+
     std::string file_;
     fs::path dir_;
     std::map<std::string, TextureSetRequest> textureTable_;

@@ -104,7 +104,7 @@ GBuffer render(const Scene& scene, const Camera& camera, const RenderOptions& op
         for (int x = 0; x < g.width; ++x) {
             const glm::dvec2 ndc = pixelNdc(g, x, y);
             const glm::dvec3 near_cam = unprojectNdc(inverse_projection, ndc, -1.0);
-            const glm::dvec3 far_cam = unprojectNdc(inverse_projection, ndc, 1.0);
+            const glm::dvec3 far_cam = unprojectNdc(inverse_projection, ndc, 0.0);  // finite if far = inf
             const glm::dvec3 origin_cam = ortho ? near_cam : glm::dvec3(0.0);
             const glm::dvec3 o = glm::dvec3(camera_to_world * glm::dvec4(origin_cam, 1.0));
             const glm::dvec3 dir = glm::normalize(glm::dvec3(camera_to_world * glm::dvec4(far_cam - near_cam, 0.0)));

@@ -9,7 +9,10 @@
 #include <vector>
 
 #include "decalcomp/error.hpp"
+#include "decalcomp/input_file.hpp"
+#include "decalcomp/memory_limit.hpp"
 #include "decalcomp/textures.hpp"
+#include "textures/quiet_stderr.hpp"
 
 namespace decalcomp {
 namespace {
@@ -17,6 +20,9 @@ namespace {
 // Largest texture accepted: keeps width*height*4 floats far from size_t overflow and from
 // allocations no GPU could hold anyway (2^28 texels = 4 GiB of float RGBA).
 constexpr std::int64_t kMaxTexels = std::int64_t(1) << 28;
+// No image codec stores a texel's first channel in less than 1/4096 of its bytes (deflate tops
+// out near 1032:1), so a header claiming more is corrupt or hostile.
+constexpr std::uint64_t kMaxExpansion = 4096;
 
 // OIIO messages may span lines; our errors are one line.
 std::string oneLine(std::string s) {
@@ -124,14 +130,19 @@ void checkSpec(const OIIO::ImageSpec& spec, const std::string& path) {
             fmt::format("'{}': empty image ({}x{}, {} channels)", path, spec.width, spec.height, spec.nchannels));
     if (std::int64_t(spec.width) * std::int64_t(spec.height) > kMaxTexels)
         throw inputError(fmt::format("'{}': image too large for a texture ({}x{})", path, spec.width, spec.height));
+    const std::uint64_t texels = std::uint64_t(spec.width) * std::uint64_t(spec.height);
+    // The file's samples as read, plus the float RGBA texels they become.
+    const std::uint64_t decoded = texels * (std::uint64_t(spec.nchannels) * spec.format.size() + sizeof(glm::vec4));
+    std::error_code ec;
+    const std::uint64_t stored = std::filesystem::file_size(path, ec);
+    if (!ec && texels * spec.format.size() > stored * kMaxExpansion)
+        throw inputError(fmt::format("'{}': header claims {}x{} texels, which {} of file cannot hold; the file is "
+                                     "corrupt or truncated",
+                                     path, spec.width, spec.height, readableBytes(stored)));
+    requireWithinMemoryLimit(decoded, path, fmt::format("{}x{} texture", spec.width, spec.height));
 }
 
-}  // namespace
-
-Texture2D loadTexture2D(const std::string& path, AlphaMode alpha, TextureContent content) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        throw inputError(fmt::format("cannot open '{}': no such file", path));
+Texture2D decodeTexture(const std::string& path, AlphaMode alpha, TextureContent content) {
 
     // Without this hint OIIO premultiplies 8-bit straight-alpha PNG/TGA on read.
     OIIO::ImageSpec config;
@@ -164,6 +175,14 @@ Texture2D loadTexture2D(const std::string& path, AlphaMode alpha, TextureContent
     }
     in->close();
     return tex;
+}
+
+}  // namespace
+
+Texture2D loadTexture2D(const std::string& path, AlphaMode alpha, TextureContent content) {
+    requireInputFile(path, "texture");
+    const QuietStderr quiet;  // libpng's own lines; its failures come back through OIIO's error
+    return decodeTexture(path, alpha, content);
 }
 
 }  // namespace decalcomp

@@ -59,14 +59,14 @@ void run(BatchFlags& f) {
     // --keep-going: every failed frame, then a non-zero exit with the first failure's code.
     std::string frames;
     for (const FrameResult& failed : report.failures) {
-        std::cerr << fmt::format("decalcomp: frame {} failed: {}\n", failed.frame, failed.message);
+        std::cerr << fmt::format("decalcomp: error: {} (frame {})\n", failed.message, failed.frame);
         frames += (frames.empty() ? "" : ", ") + std::to_string(failed.frame);
     }
     const std::string summary = fmt::format("{} of {} frames failed: {}", report.failures.size(),
                                             report.progress.total, frames);
     const FrameResult& first = report.failures.front();
     if (first.kind) throw Error(*first.kind, summary);
-    throw std::runtime_error(summary);
+    throw std::runtime_error(summary);  // a frame failed on a bug: main reports an internal error
 }
 
 }  // namespace
@@ -104,7 +104,7 @@ Command addBatchCommand(CLI::App& app) {
         ->default_str("interleaved");
     cmd->add_flag("--no-slurm-shard", flags->no_slurm, "Ignore SLURM_ARRAY_* (process every frame in each task)");
     cmd->add_option("--threads", r.exr_threads, "OpenEXR decode/encode threads (default: all hardware threads)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(CLI::Range(0, 1024));
     cmd->add_option("--queue", r.queue_depth, "Frames waiting between read, composite and write (memory bound)")
         ->check(CLI::Range(1, 64))
         ->default_str("2");

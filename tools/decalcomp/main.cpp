@@ -2,10 +2,12 @@
 #include <fmt/format.h>
 
 #include <iostream>
+#include <new>
 
 #include "commands.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/temporary_files.hpp"
+#include "usage_message.hpp"
 
 namespace {
 
@@ -25,9 +27,11 @@ int main(int argc, char** argv) {
     const auto batch = decalcomp::cli::addBatchCommand(app);
     try {
         app.parse(argc, argv);
+    } catch (const CLI::Success& e) {  // --help, --version
+        return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        const int code = app.exit(e);
-        return code == 0 ? 0 : int(decalcomp::ErrorKind::Usage);
+        std::cerr << "decalcomp: error: " << decalcomp::cli::usageMessage(app, e, argc, argv) << "\n";
+        return int(decalcomp::ErrorKind::Usage);
     }
     try {
         if (app.got_subcommand("composite")) composite();
@@ -38,6 +42,10 @@ int main(int argc, char** argv) {
     } catch (const decalcomp::Error& e) {
         std::cerr << "decalcomp: error: " << e.what() << "\n";
         return int(e.kind());
+    } catch (const std::bad_alloc&) {  // inputs are size-checked first, so this is a full machine
+        std::cerr << "decalcomp: error: out of memory: the inputs fit the memory limit but the machine has less "
+                     "free; run fewer jobs at once, or lower batch --queue and --workers\n";
+        return int(decalcomp::ErrorKind::Input);
     } catch (const std::exception& e) {
         std::cerr << "decalcomp: internal error: " << e.what() << "\n";
         return kExitInternal;

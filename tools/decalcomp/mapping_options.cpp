@@ -32,11 +32,12 @@ void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<s
                 const auto comma = value.find(',');
                 options.normal_space = value.substr(0, comma) == "camera" ? NormalSpace::Camera : NormalSpace::World;
                 if (comma != std::string::npos)  // without it, the encoding stays the profile's (or checked)
-                    options.normal_packed = value.substr(comma + 1) == "packed";
+                    options.normal_packed = value.substr(comma + 1) != "signed";  // packed, or its alias unsigned
             },
             "Normal pass space and encoding: world|camera[,signed|packed] (default: the profile's, checked "
             "against the depth pass)")
-        ->check(CLI::IsMember({"world", "camera", "world,signed", "world,packed", "camera,signed", "camera,packed"}));
+        ->check(CLI::IsMember({"world", "camera", "world,signed", "world,packed", "world,unsigned", "camera,signed",
+                               "camera,packed", "camera,unsigned"}));
     command.add_option_function<std::vector<std::string>>(
         "--add-channels",
         [&options](const std::vector<std::string>& items) {

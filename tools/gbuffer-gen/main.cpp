@@ -189,7 +189,7 @@ int main(int argc, char** argv) {
                  "One part per pass (part name = pass name, channel names without the prefix)");
     app.add_option("--lens-shift", o.lens_shift, "Shift the perspective camera's lens: sx,sy in NDC half-units");
     app.add_option("--ortho", o.ortho, "Orthographic camera with this half height (world units) instead")
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::Range(1e-6, 1e6));
     app.add_flag("--per-pass", o.per_pass,
                  "One file per pass: -o gets the beauty (R,G,B,A), <stem>.depth.exr (Z), <stem>.albedo.exr (R,G,B), "
                  "<stem>.normal.exr, <stem>.position.exr (X,Y,Z), <stem>.id.exr (id), <stem>.roughness.exr, "
