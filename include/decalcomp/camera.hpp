@@ -28,5 +28,7 @@ glm::dmat4 lookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::dv
 
 // Row-major nested JSON-style arrays <-> GLM (column-major storage).
 glm::dmat4 matrixFromRows(const double rows[4][4]);
+// Row r of m (GLM stores columns: m[col][row]).
+glm::dvec4 matrixRow(const glm::dmat4& m, int r);
 
 }  // namespace decalcomp

@@ -15,8 +15,6 @@ namespace decalcomp {
 
 namespace {
 
-glm::dvec4 row(const glm::dmat4& m, int r) { return {m[0][r], m[1][r], m[2][r], m[3][r]}; }
-
 double largestEntry(const glm::dmat4& m) {
     double largest = 0.0;
     for (int c = 0; c < 4; ++c)
@@ -30,7 +28,7 @@ std::string rowText(const glm::dvec4& v) { return fmt::format("({:.6g}, {:.6g}, 
 
 glm::dmat4 readWorldToCamera(const JsonField& field) {
     const glm::dmat4 m = field.invertibleMatrix4();
-    const glm::dvec4 last = row(m, 3);
+    const glm::dvec4 last = matrixRow(m, 3);
     const double tolerance = 1e-9 * std::max(1.0, largestEntry(m));
     if (std::abs(last.x) > tolerance || std::abs(last.y) > tolerance || std::abs(last.z) > tolerance ||
         std::abs(last.w - 1.0) > tolerance)
@@ -42,7 +40,7 @@ glm::dmat4 readWorldToCamera(const JsonField& field) {
 
 glm::dmat4 readProjection(const JsonField& field) {
     glm::dmat4 m = field.invertibleMatrix4();
-    const glm::dvec4 w = row(m, 3);
+    const glm::dvec4 w = matrixRow(m, 3);
     const double tolerance = 1e-9 * std::max(1.0, largestEntry(m));
     const bool perspective = w.z < 0.0 && std::abs(w.x) <= tolerance && std::abs(w.y) <= tolerance &&
                              std::abs(w.w) <= tolerance;

@@ -27,6 +27,8 @@ double Camera::farPlane() const {
     return b / (a + 1.0);
 }
 
+glm::dvec4 matrixRow(const glm::dmat4& m, int r) { return {m[0][r], m[1][r], m[2][r], m[3][r]}; }
+
 glm::dmat4 matrixFromRows(const double rows[4][4]) {
     glm::dmat4 m;
     for (int r = 0; r < 4; ++r)

@@ -41,8 +41,6 @@ Imath::M44f rowVectorMatrix(const glm::dmat4& m) {
     return out;
 }
 
-glm::dvec4 row(const glm::dmat4& m, int r) { return {m[0][r], m[1][r], m[2][r], m[3][r]}; }
-
 void setRow(glm::dmat4& m, int r, const glm::dvec4& v) {
     for (int c = 0; c < 4; ++c) m[c][r] = v[c];
 }
@@ -92,7 +90,8 @@ void requireInvertible(const glm::dmat4& m, const char* name, const std::string&
 // World -> RenderMan clip (x_rm*w, y_rm*w, ., w) turned into world -> OpenGL clip for rows x, y, w:
 // ndc_x = 2 x_rm - 1 and ndc_y = 1 - 2 y_rm (RenderMan's y runs top to bottom).
 glm::dmat4 openGlClipRows(const glm::dmat4& world_to_rm_clip) {
-    const glm::dvec4 x = row(world_to_rm_clip, 0), y = row(world_to_rm_clip, 1), w = row(world_to_rm_clip, 3);
+    const glm::dvec4 x = matrixRow(world_to_rm_clip, 0), y = matrixRow(world_to_rm_clip, 1),
+                     w = matrixRow(world_to_rm_clip, 3);
     glm::dmat4 n(0.0);
     setRow(n, 0, 2.0 * x - w);
     setRow(n, 1, w - 2.0 * y);
@@ -119,13 +118,13 @@ ClipRange clipRange(const Imf::Header& header, const std::string& file, bool per
 // Normalises the projection's w row to exactly (0,0,-1,0) or (0,0,0,1) and adds the z row, or
 // refuses a w row that no pinhole/orthographic camera with this worldToCamera would produce.
 void finishProjection(glm::dmat4& p, const Imf::Header& header, const std::string& file, double tolerance) {
-    const glm::dvec4 w = row(p, 3);
+    const glm::dvec4 w = matrixRow(p, 3);
     const bool perspective = std::abs(w.z) > std::abs(w.w);
     const double scale = perspective ? -w.z : w.w;
     if (!(scale > 0.0) || !std::isfinite(scale))
         throw inputError(fmt::format("{}: worldToNDC: matrix is singular or looks away from the camera", file));
     p /= scale;
-    const glm::dvec4 wn = row(p, 3);
+    const glm::dvec4 wn = matrixRow(p, 3);
     const double off_a = std::abs(wn.x), off_b = std::abs(wn.y), off_c = perspective ? std::abs(wn.w) : std::abs(wn.z);
     if (off_a > tolerance || off_b > tolerance || off_c > tolerance)
         throw inputError(fmt::format("{}: worldToNDC: inconsistent with worldToCamera (w row ({:.6g}, {:.6g}, "
@@ -183,8 +182,8 @@ std::optional<Camera> cameraFromExrHeader(const Imf::Header& header, const std::
 
 void writeCameraToExrHeader(const Camera& camera, Imf::Header& header) {
     const glm::dmat4 world_to_clip = camera.projection * camera.world_to_camera;
-    const glm::dvec4 x = row(world_to_clip, 0), y = row(world_to_clip, 1), z = row(world_to_clip, 2),
-                     w = row(world_to_clip, 3);
+    const glm::dvec4 x = matrixRow(world_to_clip, 0), y = matrixRow(world_to_clip, 1),
+                     z = matrixRow(world_to_clip, 2), w = matrixRow(world_to_clip, 3);
     glm::dmat4 to_ndc(0.0);
     setRow(to_ndc, 0, 0.5 * (x + w));  // x_rm = (ndc_x + 1) / 2
     setRow(to_ndc, 1, 0.5 * (w - y));  // y_rm = (1 - ndc_y) / 2

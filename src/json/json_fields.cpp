@@ -1,6 +1,7 @@
 // JSON field readers shared by every parser (include/decalcomp/json_fields.hpp).
 #include "decalcomp/json_fields.hpp"
 
+#include "decalcomp/edit_distance.hpp"
 #include "decalcomp/input_file.hpp"
 
 #include <fmt/format.h>
@@ -21,21 +22,6 @@ namespace {
 
 // Lists of known keys longer than this are not spelled out in an unknown-key message.
 constexpr std::size_t kMaxListedKeys = 8;
-
-std::size_t editDistance(const std::string& a, const std::string& b) {
-    std::vector<std::size_t> row(b.size() + 1);
-    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-    for (std::size_t i = 1; i <= a.size(); ++i) {
-        std::size_t diagonal = row[0];
-        row[0] = i;
-        for (std::size_t j = 1; j <= b.size(); ++j) {
-            const std::size_t substitute = diagonal + (a[i - 1] == b[j - 1] ? 0 : 1);
-            diagonal = row[j];
-            row[j] = std::min({row[j] + 1, row[j - 1] + 1, substitute});
-        }
-    }
-    return row[b.size()];
-}
 
 // nlohmann reports how many bytes it had read; users want the line and column of that byte.
 std::pair<std::size_t, std::size_t> lineAndColumn(const std::string& text, std::size_t bytesRead) {
