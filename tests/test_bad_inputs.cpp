@@ -55,11 +55,6 @@ using test::CommandResult;
 // ---------------------------------------------------------------------------------------------
 // Files: bytes, checksums, snapshots
 
-std::string readBytes(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 void writeBytes(const fs::path& path, const std::string& bytes) {
     fs::create_directories(path.parent_path());
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -96,7 +91,7 @@ Snapshot snapshot(const fs::path& root, const fs::path& skip) {
         } else if (fs::is_directory(st)) {
             s[rel] = "dir";
         } else {
-            const std::string bytes = readBytes(p);
+            const std::string bytes = test::readFileBytes(p);
             s[rel] = "file " + std::to_string(bytes.size()) + " " + std::to_string(fnv1a(bytes));
         }
     }
@@ -184,7 +179,7 @@ const HeaderAttribute& attribute(const std::vector<HeaderAttribute>& attributes,
 // Sets a box2i attribute (dataWindow, displayWindow) of the file's first header.
 void patchBox(const fs::path& path, const std::string& name, std::int32_t x0, std::int32_t y0, std::int32_t x1,
               std::int32_t y1) {
-    std::string bytes = readBytes(path);
+    std::string bytes = test::readFileBytes(path);
     const HeaderAttribute& a = attribute(headerAttributes(bytes), name);
     if (a.type != "box2i" || a.size != 16) throw std::runtime_error(name + " is not a box2i");
     putI32(bytes, a.value_at, x0);
@@ -195,20 +190,20 @@ void patchBox(const fs::path& path, const std::string& name, std::int32_t x0, st
 }
 
 void truncateTo(const fs::path& path, std::size_t size) {
-    std::string bytes = readBytes(path);
+    std::string bytes = test::readFileBytes(path);
     bytes.resize(std::min(size, bytes.size()));
     writeBytes(path, bytes);
 }
 
 void flipBytes(const fs::path& path, std::size_t at, std::size_t count) {
-    std::string bytes = readBytes(path);
+    std::string bytes = test::readFileBytes(path);
     for (std::size_t i = at; i < at + count && i < bytes.size(); ++i) bytes[i] = char(~bytes[i]);
     writeBytes(path, bytes);
 }
 
 std::size_t headerEnd(const fs::path& path) {
     std::size_t end = 0;
-    headerAttributes(readBytes(path), &end);
+    headerAttributes(test::readFileBytes(path), &end);
     return end;
 }
 
@@ -438,7 +433,7 @@ std::size_t pngChunk(const std::string& bytes, const std::string& type) {
 
 // Sets the PNG's IHDR width and height, CRC recomputed: a valid header of a huge image.
 void patchPngSize(const fs::path& path, std::uint32_t width, std::uint32_t height) {
-    std::string bytes = readBytes(path);
+    std::string bytes = test::readFileBytes(path);
     const std::size_t ihdr = pngChunk(bytes, "IHDR");
     putBE32(bytes, ihdr + 8, width);
     putBE32(bytes, ihdr + 12, height);
@@ -448,7 +443,7 @@ void patchPngSize(const fs::path& path, std::uint32_t width, std::uint32_t heigh
 
 // Inserts an ancillary tEXt chunk with a wrong CRC after IHDR: libpng warns and goes on.
 void insertBadTextChunk(const fs::path& path) {
-    std::string bytes = readBytes(path);
+    std::string bytes = test::readFileBytes(path);
     const std::size_t after_ihdr = pngChunk(bytes, "IHDR") + 12 + 13;
     const std::string data = std::string("Comment") + '\0' + "bad crc";
     std::string chunk(4, '\0');
@@ -461,7 +456,7 @@ void insertBadTextChunk(const fs::path& path) {
 
 // Flips bytes inside the first IDAT's data, CRC left as it was: libpng's CRC error.
 void corruptPngData(const fs::path& path) {
-    std::string bytes = readBytes(path);
+    std::string bytes = test::readFileBytes(path);
     const std::size_t idat = pngChunk(bytes, "IDAT");
     for (std::size_t i = idat + 8 + 16; i < idat + 8 + 48; ++i) bytes[i] = char(~bytes[i]);
     writeBytes(path, bytes);
@@ -527,7 +522,7 @@ struct Env {
 
 // The camera sidecar, edited as JSON.
 void editJson(const fs::path& path, const std::function<void(nlohmann::json&)>& edit) {
-    nlohmann::json j = nlohmann::json::parse(readBytes(path));
+    nlohmann::json j = nlohmann::json::parse(test::readFileBytes(path));
     edit(j);
     writeText(path, j.dump(2));
 }
@@ -1054,7 +1049,7 @@ std::vector<Case> cases() {
                  "translate": [0.2, 0.5, 0.2], "scale": 4.4, "occlusion": {"resolution": 99999999999999999999}})"));
          }});
     add({"camera_projection_1e400", C + O, 3, Expect::Error, {"camera.json", "projection"}, [](const Env& e) {
-             std::string text = readBytes(e.at("camera.json"));
+             std::string text = test::readFileBytes(e.at("camera.json"));
              nlohmann::json j = nlohmann::json::parse(text);
              j["projection"][0][0] = 123456.75;  // a marker, replaced by the literal below
              text = j.dump(2);
@@ -1158,14 +1153,14 @@ std::vector<Case> cases() {
              flipBytes(e.at("frame.exr"), start, 256);
          }});
     add({"exr_offset_table_garbage", C + O, 3, Expect::Error, {"frame.exr"}, [](const Env& e) {
-             std::string bytes = readBytes(e.at("frame.exr"));
+             std::string bytes = test::readFileBytes(e.at("frame.exr"));
              const std::size_t table = headerEnd(e.at("frame.exr"));
              for (int i = 0; i < 3; ++i)
                  putU64(bytes, table + 8 * std::size_t(i), 0x7ffffffffffffff0ull - std::uint64_t(i));
              writeBytes(e.at("frame.exr"), bytes);
          }});
     add({"exr_channel_list_flipped", C + O, 3, Expect::Error, {"frame.exr"}, [](const Env& e) {
-             const std::string bytes = readBytes(e.at("frame.exr"));
+             const std::string bytes = test::readFileBytes(e.at("frame.exr"));
              const HeaderAttribute& a = attribute(headerAttributes(bytes), "channels");
              flipBytes(e.at("frame.exr"), a.value_at, a.size);
          }});

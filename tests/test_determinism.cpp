@@ -20,11 +20,6 @@ namespace {
 namespace fs = std::filesystem;
 using test::shellQuote;
 
-std::string readBytes(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 // Thread settings of one run; 0 leaves the variable unset (the library's default).
 struct Threads {
     int pocl = 0;  // PoCL worker threads
@@ -51,7 +46,7 @@ test::CommandResult runWith(const Threads& threads, const std::string& arguments
 std::map<std::string, std::string> filesUnder(const fs::path& dir) {
     std::map<std::string, std::string> files;
     for (const auto& entry : fs::recursive_directory_iterator(dir))
-        if (entry.is_regular_file()) files[fs::relative(entry.path(), dir).string()] = readBytes(entry.path());
+        if (entry.is_regular_file()) files[fs::relative(entry.path(), dir).string()] = test::readFileBytes(entry.path());
     return files;
 }
 
@@ -101,7 +96,7 @@ TEST(Determinism, CompositeIsBitIdenticalAcrossRunsAndThreadCounts) {
         if (i == 0) {
             ASSERT_EQ(files.size(), 2u);
             // the run did composite something, so the comparison means something
-            EXPECT_FALSE(files.at("frame.exr") == readBytes(in / "frame.exr"));
+            EXPECT_FALSE(files.at("frame.exr") == test::readFileBytes(in / "frame.exr"));
             reference = files;
         } else {
             expectSameFiles(reference, files, settings[i].label() + " (run " + std::to_string(i + 1) + ")");
@@ -143,7 +138,7 @@ TEST(Determinism, BatchIsBitIdenticalAcrossThreadCountsWorkersAndDevices) {
         const auto files = filesUnder(out);
         if (i == 0) {
             ASSERT_EQ(files.size(), 8u);
-            EXPECT_FALSE(files.at("c.0001.exr") == readBytes(FramePattern(input).path(1)));
+            EXPECT_FALSE(files.at("c.0001.exr") == test::readFileBytes(FramePattern(input).path(1)));
             reference = files;
         } else {
             expectSameFiles(reference, files, what);

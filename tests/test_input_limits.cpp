@@ -11,17 +11,13 @@
 #include "decalcomp/exr_file.hpp"
 #include "decalcomp/memory_limit.hpp"
 #include "decalcomp/textures.hpp"
+#include "support/batch_fixture.hpp"
 #include "support/test_support.hpp"
 
 namespace decalcomp {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string readBytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
 
 void writeBytes(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
 
@@ -48,7 +44,7 @@ private:
 
 struct Fixture {
     test::ScratchDir dir;
-    std::string sample = readBytes(test::dataPath("sample/gbuffer.exr"));
+    std::string sample = test::readFileBytes(test::dataPath("sample/gbuffer.exr"));
     std::string write(const std::string& name, const std::string& bytes) const {
         writeBytes(dir.file(name), bytes);
         return dir.file(name);
@@ -129,7 +125,7 @@ TEST(InputLimits, EveryShippedFileIsPlausible) {
 // A PNG whose IHDR claims 60000 x 60000 texels in a file of a few hundred bytes.
 TEST(InputLimits, TextureHeaderClaimingMoreThanTheFileHoldsIsRefused) {
     Fixture f;
-    std::string png = readBytes(test::dataPath("blender/decal_letter.png"));
+    std::string png = test::readFileBytes(test::dataPath("blender/decal_letter.png"));
     const std::size_t ihdr = png.find("IHDR");
     ASSERT_NE(ihdr, std::string::npos);
     const unsigned char size[8] = {0, 0, 0xEA, 0x60, 0, 0, 0xEA, 0x60};  // big-endian 60000, 60000
