@@ -90,6 +90,9 @@ public:
     bool hasDecals() const { return !decals_.empty(); }
 
 private:
+    // How messages name this frame: FrameOptions::label, else the first input.
+    const std::string& label() const { return options_.label.empty() ? sources_.inputs.front() : options_.label; }
+
     FrameSources sources_;
     FrameTargets targets_;
     FrameOptions options_;

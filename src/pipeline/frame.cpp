@@ -51,7 +51,7 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
     decals_ = animated_ ? decalsAtFrame(scene.decals, *options_.frame_number) : scene.decals;
     attributes_ = compositedAttributes(scene);
     report_.warnings =
-        missingAttributeWarnings(attributes_, mapping, options_.label.empty() ? input : options_.label);
+        missingAttributeWarnings(attributes_, mapping, label());
     report_.warnings.insert(report_.warnings.end(), mapping.warnings.begin(), mapping.warnings.end());
     report_.warnings.insert(report_.warnings.end(), scene.warnings.begin(), scene.warnings.end());
     outputs_ = outputPaths(files_, mapping, attributes_, targets_.output);
@@ -73,7 +73,7 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
                 ? fmt::format("{}: decals: the scene has no decals; the output is the input unchanged", scene.source)
                 : fmt::format("{}: no decal is alive on this frame (their frames, fade_in, fade_out); the output is "
                               "the input unchanged",
-                              options_.label.empty() ? input : options_.label));
+                              label()));
     if (decals_.empty() && targets_.preview.empty()) {  // nothing alive on this frame: written as read
         prepared_ = true;
         return;
@@ -93,8 +93,7 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
         report_.depth_check = settleDepthConvention(gbuffer_, mapping, camera_);
         report_.normal_check = settleNormalEncoding(gbuffer_, mapping, camera_);
     }
-    const std::string label = options_.label.empty() ? input : options_.label;
-    for (std::string& warning : depthWarnings(gbuffer_, camera_, depthChannelName(files_, mapping), label))
+    for (std::string& warning : depthWarnings(gbuffer_, camera_, depthChannelName(files_, mapping), label()))
         report_.warnings.push_back(std::move(warning));
     // Decal masks for this frame; their warnings name the first input by the label, as above.
     evaluateMasks(files_, mapping, scene, gbuffer_, &report_.warnings, {options_.label});
@@ -116,7 +115,7 @@ void Frame::composite(Compositor& compositor) {
         report_.warnings.push_back(fmt::format(
             "{}: no decal changed any pixel: check that the decals' boxes reach visible surfaces (position, size, "
             "projection axis), their masks, and the camera",
-            options_.label.empty() ? sources_.inputs.front() : options_.label));
+            label()));
 }
 
 const std::vector<std::string>& Frame::writeBack() {

@@ -17,20 +17,19 @@ struct DepthCensus {
 DepthCensus censusOf(const GBuffer& gbuffer, const Camera& camera) {
     DepthCensus census;
     census.pixels = std::size_t(gbuffer.width) * std::size_t(gbuffer.height);
-    const bool has_depth = gbuffer.has(Attribute::Depth);
+    if (!gbuffer.has(Attribute::Depth)) {  // the position pass carries the geometry
+        for (std::size_t i = 0; i < census.pixels; ++i) census.geometry += isGeometryPixel(gbuffer, i);
+        return census;
+    }
+    const std::vector<float>& depth = gbuffer.planes.at(Attribute::Depth).samples;  // one component
     const double far = camera.farPlane();
-    const bool planar_limit = has_depth && gbuffer.depth_convention == DepthConvention::Planar && std::isfinite(far);
+    const bool planar_limit = gbuffer.depth_convention == DepthConvention::Planar && std::isfinite(far);
     for (std::size_t i = 0; i < census.pixels; ++i) {
-        if (has_depth) {
-            const float d = gbuffer.planes.at(Attribute::Depth).at(i, 0);
-            census.nan += std::isnan(d);
-            census.negative += d < 0.0f;
-            if (planar_limit && d > far && std::isfinite(d) && d < kBackgroundDepth) {
-                ++census.beyond_far;
-                continue;
-            }
-        }
-        census.geometry += isGeometryPixel(gbuffer, i);
+        const float d = depth[i];
+        census.nan += std::isnan(d);
+        census.negative += d < 0.0f;
+        if (planar_limit && d > far && std::isfinite(d) && d < kBackgroundDepth) ++census.beyond_far;
+        else census.geometry += !isBackgroundDepth(gbuffer.depth_convention, gbuffer.reversed_z, d);
     }
     return census;
 }
