@@ -2,11 +2,14 @@
 # Installs decalcomp's build and test dependencies from Debian 12's packages.
 # Idempotent and non-interactive; skips apt-get entirely when everything is present.
 set -eu
+# The last line is the sanitizer and fuzzing build (tools/sanitize-and-fuzz.sh): clang-15 with
+# libFuzzer and its OpenMP runtime, and llvm-15 for llvm-symbolizer (readable sanitizer traces).
 PACKAGES="build-essential cmake pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo clang
   libopenexr-dev libopenimageio-dev openimageio-tools libglm-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev
-  slurm-wlm slurmctld slurmd slurm-client munge"
+  slurm-wlm slurmctld slurmd slurm-client munge
+  clang-15 libfuzzer-15-dev libomp-15-dev llvm-15"
 missing=""
 for p in $PACKAGES; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

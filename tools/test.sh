@@ -1,9 +1,13 @@
 #!/bin/sh
-# Installs the dependencies (Debian 12), builds decalcomp and runs the whole test suite.
+# Installs the dependencies (Debian 12), builds decalcomp and runs the whole test suite, then the
+# second build: the suite again under ASan+UBSan and every fuzz target for 30 s
+# (tools/sanitize-and-fuzz.sh, docs/fuzzing.md; DECALCOMP_SANITIZE_STAGE=0 leaves it out).
 set -eu
 cd "$(dirname "$0")/.."
 sh tools/install-deps.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDECALCOMP_WERROR=ON
 cmake --build build -j"$(nproc)"
-cd build
-ctest --output-on-failure -j"$(nproc)" "$@"
+(cd build && ctest --output-on-failure -j"$(nproc)" "$@")
+if [ "${DECALCOMP_SANITIZE_STAGE:-1}" != 0 ]; then
+  bash tools/sanitize-and-fuzz.sh 30
+fi
