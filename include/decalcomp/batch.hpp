@@ -9,6 +9,7 @@
 
 #include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
+#include "decalcomp/exr_chunks.hpp"
 #include "decalcomp/frame_pattern.hpp"
 #include "decalcomp/shard.hpp"
 
@@ -86,6 +87,7 @@ struct BatchTimings {
 struct BatchReport {
     BatchPlan plan;
     BatchTimings timings;
+    ChunkWriteStats chunks;  // summed over the written frames' outputs (FrameReport::chunks_*)
     std::vector<std::string> devices;  // names of the devices used; empty for io_only
     std::string camera_source;  // FrameCameras::describe()
     BatchProgress progress;

@@ -52,6 +52,9 @@ struct FrameReport {
     ChannelMapping mapping;
     CompositeStats stats;
     std::size_t changed_samples = 0;    // channel samples the decals changed (0: a warning)
+    // What writeBack() did with the outputs' chunks: copied compressed from the input, or
+    // decoded, composited and encoded again (docs/cli.md, "Chunks").
+    std::size_t chunks_copied = 0, chunks_reencoded = 0, pixels_reencoded = 0;
     std::vector<std::string> outputs;   // the EXR files written
     std::vector<std::string> warnings;  // e.g. a mask name that matches nothing; the CLI prints them
 };
@@ -62,7 +65,10 @@ public:
 
     // Reads the input files (each once, however often it is named). Idempotent; prepare() calls it.
     // A batch calls it on its reader thread so decoding overlaps the other frames' compositing.
-    void read();
+    // With `scene`, decodes only the chunks this frame's decals can reach (frame_region.hpp) when
+    // the camera is known before any pixel (explicit, sidecar or header) and neither a preview nor
+    // --add-channels needs every pixel; the rest are copied from the input when written.
+    void read(const DecalScene* scene = nullptr);
 
     // Maps channels, adds requested channels, decides where each changed file goes (and refuses
     // to overwrite an input), extracts the planes, resolves the camera, settles the depth and normal
@@ -90,6 +96,10 @@ public:
     bool hasDecals() const { return !decals_.empty(); }
 
 private:
+    // This frame's decals: the scene's, at FrameOptions::frame_number when it animates.
+    std::vector<Decal> frameDecals(const DecalScene& scene) const;
+    // The chunks read(scene) decodes (everything when that cannot be known before the pixels).
+    ExrReadRegion readRegion(const DecalScene& scene) const;
     // How messages name this frame: FrameOptions::label, else the first input.
     const std::string& label() const { return options_.label.empty() ? sources_.inputs.front() : options_.label; }
 

@@ -19,8 +19,9 @@ struct FrameFiles {
     std::vector<ExrImage> files;
     FileRoles roles;
 };
+// `region` limits decoding to the chunks it covers, in every file (ExrReadRegion).
 FrameFiles readFrameFiles(const std::string& input, const std::vector<std::string>& extra_inputs,
-                          const std::map<Attribute, std::string>& pass_files);
+                          const std::map<Attribute, std::string>& pass_files, const ExrReadRegion& region = {});
 
 // The camera for a frame: the sidecar when given, else the first EXR header with
 // worldToCamera/worldToNDC, else solved from the position pass (`solve` receives the report);
@@ -74,8 +75,9 @@ struct PendingOutput {
     std::string path;
     bool create_folder = false;  // create the path's folder when missing (folder outputs)
 };
-void writeOutputsTogether(const std::vector<PendingOutput>& outputs, const std::string* preview,
-                          const std::function<void(const std::string&)>& write_preview);
+// Returns what the EXR writes did with their chunks, summed over the outputs.
+ChunkWriteStats writeOutputsTogether(const std::vector<PendingOutput>& outputs, const std::string* preview,
+                                     const std::function<void(const std::string&)>& write_preview);
 
 // sRGB PNG preview: before | after albedo and, when the frames have a normal plane, a second row
 // before | after lit (albedo * Lambert, fixed camera-space light from the upper left; background

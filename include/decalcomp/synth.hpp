@@ -74,6 +74,7 @@ struct ScatterOptions {
     int texture_count = 4;
     int texture_size = 32;
     std::uint32_t seed = 1;
+    int first_row = 0, last_row = -1;  // centres on pixels of these rows only (-1: the last row)
 };
 
 // Procedural RGBA decal textures (rings, checkers, spots) in linear premultiplied colour.

@@ -270,6 +270,7 @@ public:
     std::optional<FrameResult> run(BatchReport& report, BatchObserver& watch);
     std::vector<std::string> warnings() { return warnings_.list(); }
     BatchTimings timings() const;
+    const ChunkWriteStats& chunks() const { return chunks_; }  // after run()
 
 private:
     SetUp s_;
@@ -282,6 +283,7 @@ private:
     SequenceConventions sequence_;  // depth and normal readings settled once for the sequence
     WarningSet warnings_;
     std::vector<BatchTimings> timings_;  // reader, writer, then one per worker; summed at the end
+    ChunkWriteStats chunks_;             // the writer thread's
     std::vector<std::thread> threads_;
 
     void cancel() {
@@ -333,7 +335,8 @@ Job Pipeline::readFrame(std::size_t index) {
         frame_options.frame_number = double(job.frame);
         job.work = std::make_unique<Frame>(std::move(sources), std::move(targets), std::move(frame_options));
         StageTimer t{timings_[0].read_s};
-        job.work->read();
+        // Only the chunks the frame's decals can reach (--io-only: every chunk, to measure the reads).
+        job.work->read(request.io_only ? nullptr : &s_.scene);
     } catch (...) {
         job.work.reset();
         job.finished = failure(job.frame, job.output, std::current_exception());
@@ -402,6 +405,8 @@ FrameResult Pipeline::writeFrame(Job& job) {
     try {
         StageTimer t{timings_[1].write_s};
         const std::vector<std::string>& written = job.work->writeBack();
+        const FrameReport& frame = job.work->report();
+        chunks_ += ChunkWriteStats{frame.chunks_copied, frame.chunks_reencoded, frame.pixels_reencoded};
         return FrameResult{job.frame, FrameStatus::Written, written.size() == 1 ? written.front() : job.output, "",
                            std::nullopt};
     } catch (...) {
@@ -532,6 +537,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     if (stopped_by) report.stopped_at = stopped_by->frame;
     report.warnings = pipeline.warnings();
     report.timings = pipeline.timings();
+    report.chunks = pipeline.chunks();
     watch.finished(report);
     if (stopped_by) {
         if (stopped_by->kind) throw Error(*stopped_by->kind, stopped_by->message);

@@ -109,6 +109,7 @@ void ProgressPrinter::finished(const BatchReport& report) {
                            *report.stopped_at, p.total - p.finished());
     out_ << fmt::format("batch: {} written, {} skipped, {} failed of {} frames in {} ({:.2f} fps){}\n", p.written,
                         p.skipped, p.failed, p.total, formatDuration(p.elapsed_s), framesPerSecond(p), stop)
+         << "chunks: " << chunkSummary(report.chunks) << "\n"
          << std::flush;
 }
 

@@ -103,6 +103,7 @@ void addAttributeChannels(std::vector<ExrImage>& files, ChannelMapping& mapping,
             for (std::size_t i = 0; i < samples; ++i) io::storeSample(channel, i, value);
             part.header.channels().insert(name, Imf::Channel(io::pixelType(channel.type)));
             part.channels.push_back(std::move(channel));
+            image.copy_unchanged_chunks = false;  // every chunk of the part gains the channel
             refs.push_back({anchor.part, int(part.channels.size()) - 1, anchor.file});
         }
         mapping.attributes[attribute] = refs;

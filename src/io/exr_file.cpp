@@ -5,6 +5,7 @@
 #include <OpenEXR/ImfMultiPartOutputFile.h>
 #include <OpenEXR/ImfOutputPart.h>
 #include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfTiledInputPart.h>
 #include <OpenEXR/ImfTiledOutputPart.h>
 #include <OpenEXR/ImfVersion.h>
 #include <fmt/format.h>
@@ -19,6 +20,7 @@
 #include "decalcomp/exr_file.hpp"
 #include "decalcomp/input_file.hpp"
 #include "decalcomp/temporary_files.hpp"
+#include "io/exr_chunk_copy.hpp"
 #include "io/exr_layout.hpp"
 #include "io/exr_plausibility.hpp"
 
@@ -50,7 +52,9 @@ void requireFlatSingleLevel(const Imf::Header& header, int index, const std::str
                                      path, partLabel(header, index)));
 }
 
-ExrPart readPart(Imf::MultiPartInputFile& file, int index, const std::string& path) {
+void readChunks(Imf::MultiPartInputFile& file, int index, const ExrPart& part, const Imf::FrameBuffer& frame_buffer);
+
+ExrPart readPart(Imf::MultiPartInputFile& file, int index, const std::string& path, const ExrReadRegion& region) {
     const Imf::Header& header = file.header(index);
     requireFlatSingleLevel(header, index, path);
     const bool multi_part = Imf::isMultiPart(file.version());
@@ -75,11 +79,42 @@ ExrPart readPart(Imf::MultiPartInputFile& file, int index, const std::string& pa
     Imf::FrameBuffer frame_buffer;
     for (const ExrChannel& channel : part.channels)
         frame_buffer.insert(channel.name, io::channelSlice(dw, channel));
-    // InputPart reads tiled parts too, presenting level 0 as scanlines.
+    part.chunks = chunkLayoutOf(header);
+    if (region.everything) {
+        // InputPart reads tiled parts too, presenting level 0 as scanlines.
+        Imf::InputPart input(file, index);
+        input.setFrameBuffer(frame_buffer);
+        input.readPixels(dw.min.y, dw.max.y);
+        return part;
+    }
+    for (const Imath::Box2i& box : region.boxes) part.chunks.chunksIn(box, part.decoded);
+    part.decoded.resize(std::size_t(part.chunks.count()), 0);
+    readChunks(file, index, part, frame_buffer);
+    return part;
+}
+
+// Decodes the chunks marked in part.decoded: runs of scanline blocks at once, tiles one by one.
+void readChunks(Imf::MultiPartInputFile& file, int index, const ExrPart& part, const Imf::FrameBuffer& frame_buffer) {
+    const ChunkLayout& layout = part.chunks;
+    if (layout.tiled) {
+        Imf::TiledInputPart input(file, index);
+        input.setFrameBuffer(frame_buffer);
+        for (int chunk = 0; chunk < layout.count(); ++chunk)
+            if (part.decoded[std::size_t(chunk)]) input.readTile(layout.tileX(chunk), layout.tileY(chunk));
+        return;
+    }
     Imf::InputPart input(file, index);
     input.setFrameBuffer(frame_buffer);
-    input.readPixels(dw.min.y, dw.max.y);
-    return part;
+    for (int first = 0; first < layout.count();) {
+        if (!part.decoded[std::size_t(first)]) {
+            ++first;
+            continue;
+        }
+        int last = first;
+        while (last + 1 < layout.count() && part.decoded[std::size_t(last + 1)]) ++last;
+        input.readPixels(layout.box(first).min.y, layout.box(last).max.y);
+        first = last + 1;
+    }
 }
 
 // The bytes the writer hands to OpenEXR must match the header they are written under.
@@ -138,16 +173,55 @@ void writeParts(const ExrImage& image, const std::string& path) {
     for (int i = 0; i < int(image.parts.size()); ++i) writePart(file, image.parts[i], i);
 }
 
+bool anyChunkChanged(const ExrImage& image) {
+    for (const ExrPart& part : image.parts)
+        if (part.anyChanged()) return true;
+    return false;
+}
+
+std::size_t chunkCount(const ExrImage& image) {
+    std::size_t count = 0;
+    for (const ExrPart& part : image.parts) count += std::size_t(chunkLayoutOf(part.header).count());
+    return count;
+}
+
+// The cheapest faithful write: the input file itself when no chunk changed, its unchanged chunks
+// copied when some did, every chunk encoded when the image has no input to copy from.
+ChunkWriteStats writeFile(const ExrImage& image, const std::string& path, const std::string& temporary) {
+    for (const ExrPart& part : image.parts)
+        if (!image.copy_unchanged_chunks && !part.decoded.empty())
+            throw outputError(fmt::format("{}: part of the input {} was never read (internal error)", path, image.path));
+    ChunkWriteStats stats;
+    if (image.copy_unchanged_chunks && !anyChunkChanged(image)) {
+        std::error_code ec;
+        std::filesystem::copy_file(image.path, temporary, std::filesystem::copy_options::overwrite_existing, ec);
+        if (ec) throw outputError(fmt::format("{}: cannot copy {}: {}", path, image.path, ec.message()));
+        stats.copied = chunkCount(image);
+        return stats;
+    }
+    if (image.copy_unchanged_chunks) return io::writeCopyingUnchangedChunks(image, temporary);
+    writeParts(image, temporary);
+    stats.reencoded = chunkCount(image);
+    for (const ExrPart& part : image.parts) stats.pixels_reencoded += std::size_t(part.width) * std::size_t(part.height);
+    return stats;
+}
+
 }  // namespace
 
-ExrImage readExr(const std::string& path) {
+bool ExrPart::anyChanged() const {
+    for (std::uint8_t c : changed)
+        if (c) return true;
+    return false;
+}
+
+ExrImage readExr(const std::string& path, const ExrReadRegion& region) {
     requireExrMagic(path);
     io::requirePlausibleExr(path);
     ExrImage image;
     image.path = path;
     try {
         Imf::MultiPartInputFile file(path.c_str());
-        for (int i = 0; i < file.parts(); ++i) image.parts.push_back(readPart(file, i, path));
+        for (int i = 0; i < file.parts(); ++i) image.parts.push_back(readPart(file, i, path, region));
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {
@@ -156,7 +230,19 @@ ExrImage readExr(const std::string& path) {
     return image;
 }
 
-std::string writeExrTemporary(const ExrImage& image, const std::string& path) {
+std::vector<Imf::Header> readExrHeaders(const std::string& path) {
+    requireExrMagic(path);
+    std::vector<Imf::Header> headers;
+    try {
+        Imf::MultiPartInputFile file(path.c_str());
+        for (int i = 0; i < file.parts(); ++i) headers.push_back(file.header(i));
+    } catch (const std::exception& e) {
+        throw inputError(fmt::format("{}: cannot read: {}", path, io::oneLine(e.what())));
+    }
+    return headers;
+}
+
+std::string writeExrTemporary(const ExrImage& image, const std::string& path, ChunkWriteStats* stats) {
     if (image.parts.empty()) throw outputError(fmt::format("{}: nothing to write (no parts)", path));
     for (int i = 0; i < int(image.parts.size()); ++i) validatePart(image.parts[i], i, path);
 
@@ -164,7 +250,11 @@ std::string writeExrTemporary(const ExrImage& image, const std::string& path) {
     const std::string temporary = temporaryPathFor(path);
     createTemporary(temporary, path);
     try {
-        writeParts(image, temporary);
+        const ChunkWriteStats written = writeFile(image, path, temporary);
+        if (stats) *stats += written;
+    } catch (const Error&) {
+        discardTemporary(temporary);
+        throw;
     } catch (const std::exception& e) {
         discardTemporary(temporary);
         throw outputError(fmt::format("{}: cannot write: {}", path, io::oneLine(e.what())));

@@ -13,6 +13,7 @@
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/memory_limit.hpp"
+#include "io/exr_core.hpp"
 
 namespace decalcomp::io {
 
@@ -39,43 +40,9 @@ constexpr std::uint64_t kChunkSlack = 256;  // codec headers of tiny chunks
 constexpr std::uint64_t kMaxChannels = 4096;  // per part; renderers write dozens, AOV-heavy files hundreds
 constexpr std::size_t kMaxHeaderBytes = std::size_t(64) << 20;
 
-struct CoreMessage {
-    std::string text;
-};
-
-void rememberMessage(exr_const_context_t context, exr_result_t, const char* message) {
-    void* user = nullptr;
-    if (exr_get_user_data(context, &user) == EXR_ERR_SUCCESS && user && message)
-        static_cast<CoreMessage*>(user)->text = message;
-}
-
-// Owns the core context for the length of the check.
-class CoreReader {
-public:
-    explicit CoreReader(const std::string& path) : path_(path) {
-        exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-        init.error_handler_fn = &rememberMessage;  // instead of OpenEXR's own stderr lines
-        init.user_data = &message_;
-        const exr_result_t result = exr_start_read(&context_, path.c_str(), &init);
-        if (result != EXR_ERR_SUCCESS) throw inputError(fmt::format("{}: cannot read: {}", path, reason(result)));
-    }
-    ~CoreReader() { exr_finish(&context_); }
-    CoreReader(const CoreReader&) = delete;
-    CoreReader& operator=(const CoreReader&) = delete;
-
-    exr_const_context_t context() const { return context_; }
-    std::string reason(exr_result_t result) const {
-        return message_.text.empty() ? exr_get_default_error_message(result) : message_.text;
-    }
-    void require(exr_result_t result, int part, const std::string& field) const {
-        if (result != EXR_ERR_SUCCESS)
-            throw inputError(fmt::format("{}: part {}: {}: {}", path_, part, field, reason(result)));
-    }
-
-private:
-    std::string path_;
-    CoreMessage message_;
-    exr_context_t context_ = nullptr;
+// Header and chunk table only: no pixel memory.
+struct CoreReader : CoreContext {
+    explicit CoreReader(const std::string& path) : CoreContext(path, Mode::Read) {}
 };
 
 struct PartSize {

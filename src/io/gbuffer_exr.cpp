@@ -91,18 +91,21 @@ void checkChannel(const Files& files, const ChannelRef& ref, bool allow_uint, co
                                      channel.qualified, label));
 }
 
-// Calls visit(frame_index, channel_index) for every pixel in the overlap of the frame's window
-// and a channel's data window, row by row; indices are into each one's own row-major samples.
+// Calls visit(frame_index, channel_index, x, y) for every pixel (x, y) in the overlap of the
+// frame's window and a channel's data window that `part` decoded, row by row; indices are into
+// each one's own row-major samples.
 template <typename Visit>
-void forEachOverlapPixel(const Imath::Box2i& window, const Imath::Box2i& dw, Visit visit) {
+void forEachOverlapPixel(const Imath::Box2i& window, const ExrPart& part, Visit visit) {
+    const Imath::Box2i dw = part.header.dataWindow();
     const std::size_t width = std::size_t(window.max.x - window.min.x + 1);
     const long long channel_width = (long long)dw.max.x - dw.min.x + 1;
     const int x0 = std::max(window.min.x, dw.min.x), x1 = std::min(window.max.x, dw.max.x);
     const int y0 = std::max(window.min.y, dw.min.y), y1 = std::min(window.max.y, dw.max.y);
     for (int y = y0; y <= y1; ++y)
         for (int x = x0; x <= x1; ++x)
-            visit(std::size_t(y - window.min.y) * width + std::size_t(x - window.min.x),
-                  std::size_t((long long)(y - dw.min.y) * channel_width + (x - dw.min.x)));
+            if (part.isDecodedAt(x, y))
+                visit(std::size_t(y - window.min.y) * width + std::size_t(x - window.min.x),
+                      std::size_t((long long)(y - dw.min.y) * channel_width + (x - dw.min.x)), x, y);
 }
 
 Plane readOnWindow(const Files& files, const std::vector<ChannelRef>& refs, const Imath::Box2i& window, float fill,
@@ -115,7 +118,9 @@ Plane readOnWindow(const Files& files, const std::vector<ChannelRef>& refs, cons
     for (int c = 0; c < plane.components; ++c) {
         checkChannel(files, refs[c], allow_uint, label);
         const ExrChannel& channel = channelAt(files, refs[c], label);
-        forEachOverlapPixel(window, headerOf(files, refs[c]).dataWindow(), [&](std::size_t frame, std::size_t sample) {
+        // Pixels in chunks that were not decoded keep `fill`: background, which no decal changes.
+        const ExrPart& part = files[refs[c].file]->parts[refs[c].part];
+        forEachOverlapPixel(window, part, [&](std::size_t frame, std::size_t sample, int, int) {
             plane.at(frame, c) = io::sampleAsFloat(channel, sample);
         });
     }
@@ -174,15 +179,19 @@ std::size_t store(const std::vector<ExrImage*>& files, const ChannelMapping& map
     for (int c = 0; c < plane.components; ++c) {
         channelAt(view, refs[c], label);  // range check before taking a mutable reference
         ExrImage& image = *files[refs[c].file];
-        ExrChannel& channel = image.parts[refs[c].part].channels[refs[c].channel];
-        const Imath::Box2i dw = image.parts[refs[c].part].header.dataWindow();
+        ExrPart& part = image.parts[refs[c].part];
+        ExrChannel& channel = part.channels[refs[c].channel];
         if (channel.x_sampling != 1 || channel.y_sampling != 1)
             throw outputError(fmt::format("{}: channel {}: subsampled", image.path, channel.qualified));
-        // Only changed pixels are re-encoded, so untouched ones keep their exact original bits.
-        forEachOverlapPixel(window, dw, [&](std::size_t frame, std::size_t sample) {
+        // Untouched pixels keep their exact original bits, and the chunks holding none of the
+        // changed ones are written back as the input's compressed bytes (ExrPart::changed).
+        forEachOverlapPixel(window, part, [&](std::size_t frame, std::size_t sample, int x, int y) {
             const float value = plane.at(frame, c);
-            if (sameBits(value, io::sampleAsFloat(channel, sample))) return;
+            const float before = io::sampleAsFloat(channel, sample);
+            if (sameBits(value, before)) return;
             io::storeSample(channel, sample, value);
+            if (sameBits(io::sampleAsFloat(channel, sample), before)) return;  // rounded back (half, uint)
+            part.markChanged(x, y);
             ++changed;
         });
     }

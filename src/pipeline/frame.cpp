@@ -4,7 +4,9 @@
 
 
 #include "decalcomp/error.hpp"
+#include "decalcomp/frame_region.hpp"
 #include "decalcomp/gbuffer_exr.hpp"
+#include "decalcomp/header_camera.hpp"
 #include "decalcomp/masks.hpp"
 #include "decalcomp/pipeline.hpp"
 
@@ -20,6 +22,15 @@ std::string depthChannelName(const std::vector<ExrImage>& files, const ChannelMa
     return files.at(std::size_t(ref.file)).parts.at(std::size_t(ref.part)).channels.at(std::size_t(ref.channel)).qualified;
 }
 
+// False when read(scene) found every decal off screen and decoded nothing.
+bool anyChunkDecoded(const std::vector<ExrImage>& files) {
+    for (const ExrImage& image : files)
+        for (const ExrPart& part : image.parts)
+            for (int chunk = 0; chunk < part.chunks.count(); ++chunk)
+                if (part.isDecoded(chunk)) return true;
+    return false;
+}
+
 }  // namespace
 
 Frame::Frame(FrameSources sources, FrameTargets targets, FrameOptions options)
@@ -27,17 +38,40 @@ Frame::Frame(FrameSources sources, FrameTargets targets, FrameOptions options)
     if (sources_.inputs.empty()) throw Error(ErrorKind::Usage, "a frame needs at least one input EXR");
 }
 
-void Frame::read() {
+std::vector<Decal> Frame::frameDecals(const DecalScene& scene) const {
+    return options_.frame_number && isAnimated(scene) ? decalsAtFrame(scene.decals, *options_.frame_number)
+                                                      : scene.decals;
+}
+
+ExrReadRegion Frame::readRegion(const DecalScene& scene) const {
+    const ExrReadRegion everything;
+    // A preview shows every pixel; a new channel is written into every chunk.
+    if (!targets_.preview.empty() || !options_.mapping.add_channels.empty()) return everything;
+    const std::vector<Decal> decals = frameDecals(scene);
+    if (decals.empty()) return ExrReadRegion{false, {}};
+    std::vector<std::string> paths = sources_.inputs;
+    for (const auto& [attribute, path] : sources_.pass_files) paths.push_back(path);
+    std::optional<Camera> camera = sources_.camera;
+    if (!camera && !sources_.camera_json.empty()) camera = loadCameraJson(sources_.camera_json);
+    const std::vector<Imf::Header> first = readExrHeaders(paths.front());
+    for (std::size_t i = 0; !camera && i < paths.size(); ++i)
+        for (const Imf::Header& header : i == 0 ? first : readExrHeaders(paths[i]))
+            if (!camera) camera = cameraFromExrHeader(header, paths[i]);
+    if (!camera) return everything;  // solved from the position pass: needs its pixels
+    return decalReadRegion(decals, *camera, first.front().displayWindow());
+}
+
+void Frame::read(const DecalScene* scene) {
     if (read_) return;
     FrameFiles frame = readFrameFiles(sources_.inputs.front(), {sources_.inputs.begin() + 1, sources_.inputs.end()},
-                                      sources_.pass_files);
+                                      sources_.pass_files, scene ? readRegion(*scene) : ExrReadRegion{});
     files_ = std::move(frame.files);
     roles_ = frame.roles;
     read_ = true;
 }
 
 void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
-    read();
+    read(&scene);
     const std::string& input = sources_.inputs.front();
     ChannelMapping& mapping = report_.mapping;
     mapping = mapChannels(files_, options_.mapping, roles_);
@@ -48,7 +82,7 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
 
     // What changes, and where each changed file goes, decided (and checked) before any work.
     animated_ = options_.frame_number && isAnimated(scene);
-    decals_ = animated_ ? decalsAtFrame(scene.decals, *options_.frame_number) : scene.decals;
+    decals_ = frameDecals(scene);
     attributes_ = compositedAttributes(scene);
     report_.warnings =
         missingAttributeWarnings(attributes_, mapping, label());
@@ -74,7 +108,14 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
                 : fmt::format("{}: no decal is alive on this frame (their frames, fade_in, fade_out); the output is "
                               "the input unchanged",
                               label()));
-    if (decals_.empty() && targets_.preview.empty()) {  // nothing alive on this frame: written as read
+    if (!decals_.empty() && !anyChunkDecoded(files_)) {
+        report_.warnings.push_back(fmt::format(
+            "{}: no decal changed any pixel: no decal is on screen (their volumes project outside the camera's "
+            "view); check the decals' positions and the camera; the output is the input unchanged",
+            label()));
+        decals_.clear();
+    }
+    if (decals_.empty() && targets_.preview.empty()) {  // nothing alive (or visible) on this frame: written as read
         prepared_ = true;
         return;
     }
@@ -124,8 +165,12 @@ const std::vector<std::string>& Frame::writeBack() {
     const bool folder = isOutputFolder(targets_.output);
     for (const auto& [file, path] : outputs_) pending.push_back({&files_[std::size_t(file)], path, folder});
     const GBuffer& before = before_ ? *before_ : gbuffer_;
-    writeOutputsTogether(pending, targets_.preview.empty() ? nullptr : &targets_.preview,
-                         [&](const std::string& preview_path) { writePreview(before, gbuffer_, camera_, preview_path); });
+    const ChunkWriteStats chunks = writeOutputsTogether(
+        pending, targets_.preview.empty() ? nullptr : &targets_.preview,
+        [&](const std::string& preview_path) { writePreview(before, gbuffer_, camera_, preview_path); });
+    report_.chunks_copied = chunks.copied;
+    report_.chunks_reencoded = chunks.reencoded;
+    report_.pixels_reencoded = chunks.pixels_reencoded;
     report_.outputs.clear();
     for (const auto& [file, path] : outputs_) report_.outputs.push_back(path);
     return report_.outputs;

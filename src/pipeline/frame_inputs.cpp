@@ -40,13 +40,15 @@ std::vector<std::string> missingAttributeWarnings(const std::vector<Attribute>& 
 }
 
 FrameFiles readFrameFiles(const std::string& input, const std::vector<std::string>& extra_inputs,
-                          const std::map<Attribute, std::string>& pass_files) {
+                          const std::map<Attribute, std::string>& pass_files, const ExrReadRegion& region) {
     FrameFiles frame;
     std::map<std::string, int> seen;
     auto add = [&](const std::string& path) {
         const std::string key = fileKey(path);
         if (auto it = seen.find(key); it != seen.end()) return it->second;
-        frame.files.push_back(readExr(path));
+        frame.files.push_back(readExr(path, region));
+        // A frame changes samples only through storeAttribute, which marks the chunks it changes.
+        frame.files.back().copy_unchanged_chunks = true;
         seen[key] = int(frame.files.size()) - 1;
         return int(frame.files.size()) - 1;
     };

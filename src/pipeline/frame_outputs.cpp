@@ -111,12 +111,13 @@ void checkRunFiles(const RunFiles& files, bool overwrite_inputs) {
     }
 }
 
-void writeOutputsTogether(const std::vector<PendingOutput>& outputs, const std::string* preview,
-                          const std::function<void(const std::string&)>& write_preview) {
+ChunkWriteStats writeOutputsTogether(const std::vector<PendingOutput>& outputs, const std::string* preview,
+                                     const std::function<void(const std::string&)>& write_preview) {
     // Everything goes to registered temporaries first (decalcomp/temporary_files.hpp), renamed as one
     // group, so a failed write or a termination signal leaves none of the outputs behind.
     std::vector<std::pair<std::string, std::string>> written;  // temporary, final
     std::string preview_tmp;
+    ChunkWriteStats stats;
     try {
         if (preview) {
             preview_tmp = temporaryPathFor(*preview);
@@ -127,7 +128,7 @@ void writeOutputsTogether(const std::vector<PendingOutput>& outputs, const std::
             const fs::path parent = fs::path(output.path).parent_path();
             std::error_code ec;
             if (output.create_folder && !parent.empty()) fs::create_directories(parent, ec);
-            written.emplace_back(writeExrTemporary(*output.image, output.path), output.path);
+            written.emplace_back(writeExrTemporary(*output.image, output.path, &stats), output.path);
         }
     } catch (...) {
         for (const auto& [temporary, final_path] : written) discardTemporary(temporary);
@@ -136,6 +137,7 @@ void writeOutputsTogether(const std::vector<PendingOutput>& outputs, const std::
     }
     if (preview) written.emplace_back(preview_tmp, *preview);  // renamed after the EXRs
     commitTemporaries(written);
+    return stats;
 }
 
 }  // namespace decalcomp

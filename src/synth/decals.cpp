@@ -1,6 +1,7 @@
 // Random decal scenes on top of a rendered frame, for tests and benchmarks.
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <algorithm>
 #include <random>
 
 #include "decalcomp/geometry.hpp"
@@ -38,7 +39,8 @@ DecalScene scatterDecals(const GBuffer& frame, const Camera& camera, const Scatt
     DecalScene scene;
     for (int k = 0; k < options.texture_count; ++k)
         scene.textures.push_back(proceduralTexture(k, options.texture_size, options.seed * 977u + k));
-    std::uniform_int_distribution<int> px(0, frame.width - 1), py(0, frame.height - 1);
+    const int last_row = options.last_row < 0 ? frame.height - 1 : std::min(options.last_row, frame.height - 1);
+    std::uniform_int_distribution<int> px(0, frame.width - 1), py(std::max(0, options.first_row), last_row);
     for (int n = 0; n < options.count; ++n) {
         std::optional<glm::dvec3> centre;
         for (int attempt = 0; attempt < 32 && !centre; ++attempt)

@@ -169,6 +169,9 @@ int main(int argc, char** argv) {
     app.add_option("--min-size", min_size)->capture_default_str();
     app.add_option("--max-size", max_size)->capture_default_str();
     app.add_option("--seed", seed)->capture_default_str();
+    int first_row = 0, last_row = -1;
+    app.add_option("--first-row", first_row, "Centre decals on pixels of rows from this one")->capture_default_str();
+    app.add_option("--last-row", last_row, "... to this one (-1: the last row)")->capture_default_str();
     app.add_option("--animate", animate_frames,
                    "Keyframe every decal from frame 1 to this frame (drifting 0.2 units, turning 30 degrees), "
                    "so each frame has its own placements; 0 = static");
@@ -199,6 +202,8 @@ int main(int argc, char** argv) {
         scatter.min_size = min_size;
         scatter.max_size = max_size;
         scatter.seed = seed;
+        scatter.first_row = first_row;
+        scatter.last_row = last_row;
         const DecalScene scene = synth::scatterDecals(frame, camera, scatter);
         nlohmann::json doc;
         doc["format"] = "decalcomp-scene/1";

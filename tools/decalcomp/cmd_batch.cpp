@@ -19,7 +19,7 @@ struct BatchFlags {
     std::vector<std::string> inputs, passes, channels;
     std::string depth;
     std::string shard, shard_mode = "interleaved", progress = "auto";
-    bool quiet = false, list_frames = false, no_slurm = false, timing = false;
+    bool quiet = false, list_frames = false, no_slurm = false, timing = false, stats = false;
 };
 
 ProgressStyle progressStyle(const BatchFlags& f) {
@@ -55,6 +55,10 @@ void run(BatchFlags& f) {
             1e3 * t.read_s / n, 1e3 * t.prepare_s / n, 1e3 * t.composite_s / n, t.kernels_ms / n, 1e3 * t.write_s / n,
             1e3 * t.read_wait_s / n, 1e3 * t.write_idle_s / n);
     }
+    if (f.stats)
+        std::cout << fmt::format("stats: frames written {}, chunks copied {}, chunks re-encoded {}, pixels re-encoded {}\n",
+                                 report.progress.written, report.chunks.copied, report.chunks.reencoded,
+                                 report.chunks.pixels_reencoded);
     if (report.failures.empty()) return;
     // --keep-going: every failed frame, then a non-zero exit with the first failure's code.
     std::string frames;
@@ -121,6 +125,8 @@ Command addBatchCommand(CLI::App& app) {
         ->default_str("auto");
     cmd->add_flag("-q,--quiet", flags->quiet, "No progress; only errors");
     cmd->add_flag("--timing", flags->timing, "Print where the time went, per stage (ms per frame)");
+    cmd->add_flag("--stats", flags->stats,
+                  "Print the chunks the writes copied and re-encoded, summed over the frames (even with --quiet)");
     addMappingOptions(*cmd, r.mapping, flags->channels, flags->depth);
     addPassOptions(*cmd, flags->passes);
     return [flags] { run(*flags); };

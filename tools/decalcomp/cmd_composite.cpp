@@ -18,8 +18,20 @@ struct CompositeFlags {
     std::vector<std::string> passes;
     std::vector<std::string> channels;
     std::string depth;
-    bool quiet = false;
+    bool quiet = false, stats = false;
 };
+
+// --stats: what the device and the EXR writer did, one fact a line.
+void printStats(const FrameReport& report) {
+    const CompositeStats& s = report.stats;
+    std::cout << fmt::format("stats: decals {}, tiles {}, bin entries {}\n", s.decals, s.tiles, s.bin_entries)
+              << fmt::format("stats: kernels {:.2f} ms (tile bounds {:.2f}, binning {:.2f}, shading {:.2f}, "
+                             "occlusion {:.2f})\n",
+                             s.totalKernelMs(), s.tile_bounds_ms, s.binning_ms, s.shading_ms, s.occlusion_ms)
+              << fmt::format("stats: changed samples {}\n", report.changed_samples)
+              << fmt::format("stats: chunks copied {}, chunks re-encoded {}, pixels re-encoded {}\n",
+                             report.chunks_copied, report.chunks_reencoded, report.pixels_reencoded);
+}
 
 }  // namespace
 
@@ -43,6 +55,9 @@ Command addCompositeCommand(CLI::App& app) {
     CompositeOptions& compositing = flags->options.compositing;
     cmd->add_flag("--unbinned", [&compositing](std::int64_t) { compositing.binned = false; }, "Test every decal at every pixel (debugging)");
     cmd->add_flag("-q,--quiet", flags->quiet, "Print nothing on success");
+    cmd->add_flag("--stats", flags->stats,
+                  "Print the device's and the writer's figures: kernels, changed samples, chunks copied and re-encoded "
+                  "(even with --quiet)");
     addMappingOptions(*cmd, flags->options.mapping, flags->channels, flags->depth);
     addPassOptions(*cmd, flags->passes);
     return [flags] {
@@ -60,12 +75,15 @@ Command addCompositeCommand(CLI::App& app) {
         const FrameReport& report = frame.report();
         // Warnings are not success chatter: they go to stderr even with --quiet.
         for (const std::string& warning : report.warnings) std::cerr << "decalcomp: warning: " << warning << "\n";
+        if (flags->stats) printStats(report);
         if (flags->quiet) return;
         std::string written;
         for (const std::string& path : report.outputs) written += (written.empty() ? "" : ", ") + path;
         std::cout << fmt::format("{}: {} decals on {} ({} profile, camera from {}), kernels {:.2f} ms\n", written,
                                  report.stats.decals, device.info().name, report.mapping.profile, report.camera_source,
-                                 report.stats.totalKernelMs());
+                                 report.stats.totalKernelMs())
+                  << "chunks: "
+                  << chunkSummary({report.chunks_copied, report.chunks_reencoded, report.pixels_reencoded}) << "\n";
         if (report.camera_solve)
             std::cout << "camera solve: " << report.camera_solve->summary() << fmt::format(
                 ", near {:.6g}, far {:.6g}\n", report.camera_solve->near_plane, report.camera_solve->far_plane);
