@@ -2,6 +2,7 @@
  * the material (DESIGN.md section 3). Background pixels are copied through unchanged.
  * The material travels in three float4 planes: (albedo, roughness), (world normal, metallic),
  * (emission, ao); DcFrame::attributes says which of their parts the frame has. */
+#include "beauty.h"
 #include "decal_kinds.h"
 #include "materials.h"
 #include "matrix.h"
@@ -31,7 +32,8 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                            __global const float4* texels, __global const int* tile_offsets,
                            __global const int* tile_decals, int binned, int list_capacity,
                            __global const float* mask_weights,
-                           __global const uint* occlusion_maps, const int variant) {
+                           __global const uint* occlusion_maps, __global float4* beauty,
+                           __global float4* light, const int variant) {
     const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
     const int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame->width || y >= frame->height) return;
@@ -85,10 +87,17 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
             applied = 1;
         }
         if (!applied) return;
+        const float3 world_normal = s.normal_changed ? dc_camera_to_world_vector(frame, s.normal) : in1.xyz;
         surface0[i] = (float4)(s.albedo, s.roughness);
-        if (has_group1)
-            surface1[i] = (float4)(s.normal_changed ? dc_camera_to_world_vector(frame, s.normal) : in1.xyz, s.metallic);
+        if (has_group1) surface1[i] = (float4)(world_normal, s.metallic);
         if (has_group2) surface2[i] = (float4)(s.emission, s.ao);
+        if (frame->beauty) {
+            const float relight = frame->relight && s.normal_changed
+                                      ? dc_relight_ratio(frame, normalize(in1.xyz), world_normal)
+                                      : 1.0f;
+            dc_update_beauty(frame, i, (size_t)frame->width * frame->height, in0.xyz, s.albedo, s.emission - in2.xyz,
+                             relight, beauty, light);
+        }
     }
 }
 
@@ -97,11 +106,12 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
         __global float4 *surface0, __global float4 *surface1, __global float4 *surface2,                         \
         __global const DcDecal *decals, __global const DcTexture *textures, __global const float4 *texels,       \
         __global const int *tile_offsets, __global const int *tile_decals, int binned, int list_capacity,       \
-        __global const float *mask_weights, __global const uint *occlusion_maps
+        __global const float *mask_weights, __global const uint *occlusion_maps, __global float4 *beauty,       \
+        __global float4 *light
 #define DC_SHADE_CALL(VARIANT)                                                                              \
     dc_shade_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2, decals, textures, texels,   \
                    tile_offsets, tile_decals, binned, list_capacity,                                          \
-                   mask_weights, occlusion_maps, VARIANT)
+                   mask_weights, occlusion_maps, beauty, light, VARIANT)
 
 /* Every target, kind and blast occlusion; then leaner kernels the host picks when a scene fits. */
 __kernel void dc_shade(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(0); }

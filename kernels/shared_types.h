@@ -98,7 +98,15 @@ typedef struct {
     DC_INT reconstruct_normals; /* no normal pass but angle fades: normals from depth neighbours */
     DC_INT attributes; /* bits (1 << DC_TARGET_x): material planes the frame has and decals change */
     DC_INT needs_footprint; /* some decal filters with mips: compute the pixel footprint */
-    DC_INT pad0, pad1;
+    /* The beauty update (beauty.h): off unless `beauty`; the light planes hold the albedo lobe's
+     * terms, direct ones first, the first summed_terms adding up in the beauty. */
+    DC_INT beauty;
+    DC_INT light_terms, direct_terms, summed_terms;
+    DC_INT light_divided;   /* 1: light divided by its colour (Blender); 0: multiplied by it */
+    DC_INT beauty_emission; /* 1: emission changes add to the beauty */
+    DC_INT relight;         /* 1: direct light scaled by the Lambert ratio of new and old normal */
+    DC_INT pad0, pad1, pad2;
+    DC_FLOAT light_fit[4]; /* direct light ~ max(0, [3] + dot([0..2], world normal)) */
 } DcFrame;
 
 /* One decal, prepared on the host in double precision. */

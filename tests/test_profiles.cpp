@@ -70,7 +70,7 @@ TEST(Profiles, BuiltinsAreEmbeddedAndOrdered) {
         for (const auto& [attribute, spellings] : p.attributes)
             for (const ProfileSpelling& s : spellings) EXPECT_EQ(int(s.channels.size()), attributeComponents(attribute));
     }
-    EXPECT_EQ(names, (Names{"generic", "blender", "arnold", "renderman", "unreal"}));
+    EXPECT_EQ(names, (Names{"generic", "blender", "arnold", "renderman", "unreal", "vray"}));
 }
 
 TEST(Profiles, PatternExpansion) {

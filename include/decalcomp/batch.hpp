@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "decalcomp/beauty.hpp"
 #include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_chunks.hpp"
@@ -27,6 +28,7 @@ struct BatchRequest {
     std::string cameras; // per-frame cameras file
     std::string device;  // OpenCL devices: a selector, several separated by ',', or "all" (selectDevices)
     MappingOptions mapping;
+    BeautyOptions beauty;  // --beauty, --relight (FrameOptions::beauty)
     bool overwrite_input = false;
     bool resume = false;      // skip frames whose output exists (complete: writes are atomic)
     bool keep_going = false;  // a failed frame does not stop the batch
@@ -94,6 +96,7 @@ struct BatchReport {
     std::vector<FrameResult> failures;  // in frame (plan) order
     std::optional<int> stopped_at;      // the failed frame that stopped the batch (without keep_going)
     std::vector<std::string> warnings;  // distinct warnings, each as "frames 1-40: ..." (missing channels, masks)
+    std::vector<std::string> beauty;    // "frames 1-40: rebuilt ViewLayer.Combined from ..." (FrameReport::beauty)
 };
 
 // Called on the thread that called runBatch, in frame (plan) order.

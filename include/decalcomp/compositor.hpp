@@ -4,6 +4,7 @@
 #include <memory>
 #include <vector>
 
+#include "decalcomp/beauty.hpp"
 #include "decalcomp/camera.hpp"
 #include "decalcomp/decal.hpp"
 #include "decalcomp/device.hpp"
@@ -53,8 +54,10 @@ public:
     // Blends the scene's decals into the frame's material planes in place (albedo, and the normal,
     // roughness, metallic, ao and emission planes the frame has and some decal changes).
     // The frame needs an albedo plane and a depth or position plane matching its depth convention.
-    // Throws Error(Input/Device).
-    CompositeStats composite(GBuffer& frame, const Camera& camera, const CompositeOptions& options = {});
+    // With `beauty`, the shading kernel also rebuilds the beauty (and rewrites multiplied light
+    // terms) at the pixels some decal changed (beauty.hpp). Throws Error(Input/Device).
+    CompositeStats composite(GBuffer& frame, const Camera& camera, const CompositeOptions& options = {},
+                             BeautyPlanes* beauty = nullptr);
 
     // Tile depth ranges and per-tile lists of the last binned composite (downloaded on request).
     BinningResult lastBinning();

@@ -15,6 +15,7 @@
 #include "decalcomp/decal.hpp"
 #include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/exr_file.hpp"
+#include "decalcomp/frame_beauty.hpp"
 #include "decalcomp/normal_check.hpp"
 #include "decalcomp/sequence_conventions.hpp"
 
@@ -39,6 +40,7 @@ struct FrameTargets {
 struct FrameOptions {
     MappingOptions mapping;
     CompositeOptions compositing;
+    BeautyOptions beauty;  // --beauty, --relight
     std::optional<double> frame_number;  // picks animated decals' state; nullopt: the scene as written
     std::string label;  // names the frame in warnings (a batch gives its pattern); default: the first input
 };
@@ -51,6 +53,7 @@ struct FrameReport {
     NormalCheck normal_check;                       // normal space/encoding against the depth pass
     ChannelMapping mapping;
     CompositeStats stats;
+    BeautyReport beauty;  // whether the beauty was rebuilt, from which passes
     std::size_t changed_samples = 0;    // channel samples the decals changed (0: a warning)
     // What writeBack() did with the outputs' chunks: copied compressed from the input, or
     // decoded, composited and encoded again (docs/cli.md, "Chunks").
@@ -116,6 +119,7 @@ private:
     GBuffer gbuffer_;
     std::optional<GBuffer> before_;  // for the preview
     Camera camera_;
+    FrameBeauty beauty_;
     FrameReport report_;
 };
 

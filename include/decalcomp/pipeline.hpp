@@ -82,6 +82,8 @@ ChunkWriteStats writeOutputsTogether(const std::vector<PendingOutput>& outputs, 
 // sRGB PNG preview: before | after albedo and, when the frames have a normal plane, a second row
 // before | after lit (albedo * Lambert, fixed camera-space light from the upper left; background
 // black), so normal-map decals are visible. `camera` takes world-space normals to camera space.
-void writePreview(const GBuffer& before, const GBuffer& after, const Camera& camera, const std::string& path);
+// With beauty planes (RGB), a last row shows the beauty before | after, tone-mapped (Reinhard).
+void writePreview(const GBuffer& before, const GBuffer& after, const Camera& camera, const std::string& path,
+                  const Plane* beauty_before = nullptr, const Plane* beauty_after = nullptr);
 
 }  // namespace decalcomp

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "decalcomp/beauty.hpp"
 #include "decalcomp/gbuffer.hpp"
 
 namespace decalcomp {
@@ -36,12 +37,13 @@ struct ChannelProfile {
     DepthConvention depth_convention = DepthConvention::Planar;
     std::string normal_space = "world";     // world | camera
     std::string normal_encoding = "signed"; // signed ([-1,1]) | unsigned (n * 0.5 + 0.5)
+    BeautyModel beauty;                     // its light passes ("beauty"; none declared: not rebuilt)
 };
 
 // Score an attribute adds to a profile when all of its channels are found (docs/profiles.md).
 double attributeDetectionWeight(Attribute attribute);
 
-// The built-in profiles, in tie-break order: generic, blender, arnold, renderman, unreal.
+// The built-in profiles, in tie-break order: generic, blender, arnold, renderman, unreal, vray.
 const std::vector<ChannelProfile>& builtinProfiles();
 
 // Parses one profile object. Throws Error(Input) naming `source` and the JSON path of a bad field

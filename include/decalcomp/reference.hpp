@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "decalcomp/beauty.hpp"
 #include "decalcomp/camera.hpp"
 #include "decalcomp/decal.hpp"
 #include "decalcomp/gbuffer.hpp"
@@ -85,5 +86,10 @@ struct ShadeResult {
 // Brute force: every pixel tests every decal in scene order.
 ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& scene,
                   double margin = 2e-5);
+
+// The beauty update (docs/profiles.md "Beauty") where the albedo or emission of `after` differs from
+// `before`: the beauty and, for multiplied light, the light terms of `planes` change. No relight.
+void updateBeauty(const std::map<Attribute, Plane>& before, const std::map<Attribute, Plane>& after,
+                  BeautyPlanes& planes);
 
 }  // namespace decalcomp::reference

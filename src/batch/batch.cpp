@@ -269,6 +269,7 @@ public:
     // that stopped the batch (without keep_going), if one did.
     std::optional<FrameResult> run(BatchReport& report, BatchObserver& watch);
     std::vector<std::string> warnings() { return warnings_.list(); }
+    std::vector<std::string> beautyNotes() { return beauty_notes_.list(); }
     BatchTimings timings() const;
     const ChunkWriteStats& chunks() const { return chunks_; }  // after run()
 
@@ -282,6 +283,7 @@ private:
     std::atomic<int> producers_{0};  // of to_write_: the reader and the workers
     SequenceConventions sequence_;  // depth and normal readings settled once for the sequence
     WarningSet warnings_;
+    WarningSet beauty_notes_;  // what the beauty step did, said once per distinct summary
     std::vector<BatchTimings> timings_;  // reader, writer, then one per worker; summed at the end
     ChunkWriteStats chunks_;             // the writer thread's
     std::vector<std::thread> threads_;
@@ -369,6 +371,7 @@ void Pipeline::compositeFrame(Job& job, Compositor* compositor, BatchTimings& ti
             timings.kernels_ms += job.work->report().stats.totalKernelMs();
         }
         warnings_.add(job.frame, job.work->report().warnings);  // prepare's and composite's
+        if (job.work->report().beauty.rebuilt) beauty_notes_.add(job.frame, {job.work->report().beauty.summary});
     } catch (...) {
         job.work.reset();
         job.finished = failure(job.frame, job.output, std::current_exception());
@@ -527,6 +530,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     batch::removeStaleTemporaries(request, plan);
     FrameOptions options;
     options.mapping = request.mapping;
+    options.beauty = request.beauty;
     options.compositing.binned = request.binned;
     options.label = request.input;  // warnings name the sequence, so each is reported once
 
@@ -536,6 +540,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     const std::optional<FrameResult> stopped_by = pipeline.run(report, watch);
     if (stopped_by) report.stopped_at = stopped_by->frame;
     report.warnings = pipeline.warnings();
+    report.beauty = pipeline.beautyNotes();
     report.timings = pipeline.timings();
     report.chunks = pipeline.chunks();
     watch.finished(report);

@@ -21,7 +21,7 @@ namespace decalcomp::cl_types {
 
 DC_CHECK(sizeof(DC_INT) == 4 && sizeof(DC_FLOAT) == 4);
 
-DC_CHECK(sizeof(DcFrame) == 272);
+DC_CHECK(sizeof(DcFrame) == 320);
 DC_CHECK(DC_OFFSET(DcFrame, inv_projection) == 0);
 DC_CHECK(DC_OFFSET(DcFrame, projection) == 64);
 DC_CHECK(DC_OFFSET(DcFrame, world_to_camera) == 128);
@@ -43,8 +43,15 @@ DC_CHECK(DC_OFFSET(DcFrame, has_normal) == 248);
 DC_CHECK(DC_OFFSET(DcFrame, reconstruct_normals) == 252);
 DC_CHECK(DC_OFFSET(DcFrame, attributes) == 256);
 DC_CHECK(DC_OFFSET(DcFrame, needs_footprint) == 260);
-DC_CHECK(DC_OFFSET(DcFrame, pad0) == 264);
-DC_CHECK(DC_OFFSET(DcFrame, pad1) == 268);
+DC_CHECK(DC_OFFSET(DcFrame, beauty) == 264);
+DC_CHECK(DC_OFFSET(DcFrame, light_terms) == 268);
+DC_CHECK(DC_OFFSET(DcFrame, direct_terms) == 272);
+DC_CHECK(DC_OFFSET(DcFrame, summed_terms) == 276);
+DC_CHECK(DC_OFFSET(DcFrame, light_divided) == 280);
+DC_CHECK(DC_OFFSET(DcFrame, beauty_emission) == 284);
+DC_CHECK(DC_OFFSET(DcFrame, relight) == 288);
+DC_CHECK(DC_OFFSET(DcFrame, pad0) == 292);
+DC_CHECK(DC_OFFSET(DcFrame, light_fit) == 304);
 
 DC_CHECK(sizeof(DcDecal) == 288);
 DC_CHECK(DC_OFFSET(DcDecal, camera_to_local) == 0);

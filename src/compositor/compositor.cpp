@@ -9,6 +9,7 @@
 #include <string>
 #include <cstring>
 
+#include "compositor/beauty_transfer.hpp"
 #include "compositor/kernel_params.hpp"
 #include "compositor/kernels.hpp"
 #include "compositor/occlusion_maps.hpp"
@@ -113,6 +114,7 @@ struct Compositor::State {
 
     // device memory, grown on demand
     StagedBuffer depth, position, masks;
+    StagedBuffer beauty, light;  // the beauty update's planes (beauty_transfer.hpp)
     std::array<StagedBuffer, kSurfaceGroups> surface;
     cl::Buffer frame_buffer, decal_buffer, bounds, tile_depth, coarse_depth, coarse_counts, coarse_offsets,
         chunk_masks, chunk_starts, coarse_lists, tile_counts, tile_offsets, tile_decals, totals_buffer;
@@ -196,9 +198,11 @@ void checkFrame(const GBuffer& frame, std::size_t mask_count) {
 
 }  // namespace
 
-CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const CompositeOptions& options) {
+CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const CompositeOptions& options,
+                                     BeautyPlanes* beauty) {
     State& s = *state_;
     checkFrame(frame, s.mask_count);
+    if (beauty) checkBeautyPlanes(*beauty, frame.pixelCount());
     CompositeStats stats;
     if (s.scene.decals.empty()) return stats;  // nothing to blend: the planes stay as they are
 
@@ -220,6 +224,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     params.has_normal = (surface.attributes & (1 << DC_TARGET_NORMAL)) ? 1 : 0;
     params.reconstruct_normals = needs_normals && !params.has_normal ? 1 : 0;
     params.needs_footprint = needs_footprint ? 1 : 0;
+    setBeautyParams(params, beauty);
     const std::size_t pixels = frame.pixelCount();
     const std::size_t decals = s.decal_params.size();
     const std::size_t tiles = std::size_t(params.tiles_x) * std::size_t(params.tiles_y);
@@ -239,6 +244,9 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             s.surface[std::size_t(g)].reserve(context, queue, (surface.used[std::size_t(g)] ? pixels : 1) * sizeof(cl_float4),
                                               s.unified);
         s.masks.reserve(context, queue, std::max<std::size_t>(s.mask_count * pixels, 1) * sizeof(float), s.unified);
+        const std::size_t light_terms = beauty ? beauty->light.size() : 0;
+        s.beauty.reserve(context, queue, (beauty ? pixels : 1) * sizeof(cl_float4), s.unified);
+        s.light.reserve(context, queue, std::max<std::size_t>(light_terms * pixels, 1) * sizeof(cl_float4), s.unified);
         reserve(context, s.decal_buffer, decals * sizeof(cl_types::DcDecal));
         reserve(context, s.bounds, decals * sizeof(cl_types::DcDecalBounds));
         reserve(context, s.tile_depth, tiles * sizeof(cl_float2));
@@ -295,6 +303,15 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                     parallelCopy(out + m * pixels, frame.mask_weights[m].samples.data(), {0, pixels});
                 s.masks.uploadRange(queue, 0, s.mask_count * pixels * sizeof(float));
                 s.masks.finishUpload(queue);
+            }
+            if (beauty) {
+                auto* beauty_view = static_cast<float*>(s.beauty.beginUpload(queue));
+                auto* light_view = static_cast<float*>(s.light.beginUpload(queue));
+                packBeautyPlanes(*beauty, beauty_view, light_view);
+                s.beauty.uploadRange(queue, 0, pixels * sizeof(cl_float4));
+                if (light_terms > 0) s.light.uploadRange(queue, 0, light_terms * pixels * sizeof(cl_float4));
+                s.beauty.finishUpload(queue);
+                s.light.finishUpload(queue);
             }
 
             cl::Event totals_read;
@@ -368,7 +385,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 shade_range,
                 s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(), s.surface[2].device(),
                 s.decal_buffer, s.texture_table, s.texels, s.tile_offsets, s.tile_decals, cl_int(binned ? 1 : 0),
-                cl_int(s.list_capacity), s.masks.device(), occlusion_maps);
+                cl_int(s.list_capacity), s.masks.device(), occlusion_maps, s.beauty.device(), s.light.device());
             // Only the groups that hold a changed attribute come back, run by run, each unpacked
             // while the next is still on its way.
             std::vector<std::array<cl::Event, kSurfaceGroups>> downloaded(static_cast<std::size_t>(runs));
@@ -380,6 +397,11 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                                                                   (r.last - r.first) * sizeof(cl_float4),
                                                                   &downloaded[std::size_t(c)][std::size_t(g)]);
             }
+            const bool light_back = beauty && beauty->lightRewritten() && light_terms > 0;
+            cl::Event beauty_downloaded, light_downloaded;
+            if (beauty) s.beauty.enqueueDownload(queue, 0, pixels * sizeof(cl_float4), &beauty_downloaded);
+            if (light_back)
+                s.light.enqueueDownload(queue, 0, light_terms * pixels * sizeof(cl_float4), &light_downloaded);
             queue.flush();
             if (binned) totals_read.wait();  // the binning's totals are back long before the planes
             if (binned && (std::size_t(s.totals[0]) > s.coarse_capacity || std::size_t(s.totals[1]) > s.list_capacity)) {
@@ -401,6 +423,18 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                     unpackSurfaceGroup(frame, camera, surface, g, chunkRange(pixels, c, runs), result, s.targets);
                 }
                 group.endDownload(queue);
+            }
+            if (beauty) {
+                queue.finish();
+                const auto* beauty_result =
+                    static_cast<const float*>(s.beauty.beginDownload(queue, pixels * sizeof(cl_float4)));
+                const auto* light_result =
+                    light_back ? static_cast<const float*>(
+                                     s.light.beginDownload(queue, light_terms * pixels * sizeof(cl_float4)))
+                               : nullptr;
+                unpackBeautyPlanes(*beauty, beauty_result, light_result);
+                s.beauty.endDownload(queue);
+                if (light_back) s.light.endDownload(queue);
             }
             queue.finish();
             if (s.profiling) {

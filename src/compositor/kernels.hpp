@@ -34,9 +34,9 @@ struct CompositorKernels {
     // frame, depth plane, position plane, decals, occluder indices, occluder count, maps
     cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer> occlusion_build;
     // frame, depth, position, surface groups 0-2 (in place), decals, texture table, texels,
-    // tile offsets, tile lists, binned, list capacity, mask weights, occlusion maps
+    // tile offsets, tile lists, binned, list capacity, mask weights, occlusion maps, beauty, light
     using Shade = cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
-                                    Buffer, cl_int, cl_int, Buffer, Buffer>;
+                                    Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer>;
     std::array<Shade, 4> shade;  // by variant bits: DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT
 };
 

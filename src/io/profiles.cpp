@@ -9,6 +9,7 @@
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/json_fields.hpp"
+#include "profile_beauty.hpp"
 
 namespace decalcomp {
 
@@ -119,7 +120,7 @@ std::vector<std::string> attributeNames() {
 
 ChannelProfile parseProfileJson(const JsonField& doc) {
     doc.requireObject("a profile object");
-    doc.checkKeys(withComment({"name", "description", "detect", "depth_convention", "normal", "attributes"}));
+    doc.checkKeys(withComment({"name", "description", "detect", "depth_convention", "normal", "attributes", "beauty"}));
     ChannelProfile profile;
     profile.source = doc.file();
     const JsonField name = doc.required("name");
@@ -157,6 +158,7 @@ ChannelProfile parseProfileJson(const JsonField& doc) {
             profile.attributes[attribute].push_back(parseSpelling(spelling, attribute));
     }
     if (profile.attributes.empty()) attributes.fail("expected at least one attribute");
+    if (const auto beauty = doc.optional("beauty")) profile.beauty = parseBeautyModel(*beauty);
     return profile;
 }
 
@@ -218,7 +220,7 @@ const std::vector<ChannelProfile>& builtinProfiles() {
             }
         }
         // Tie-break order: the neutral generic names first, then the renderers.
-        const std::vector<std::string> order = {"generic", "blender", "arnold", "renderman", "unreal"};
+        const std::vector<std::string> order = {"generic", "blender", "arnold", "renderman", "unreal", "vray"};
         auto rank = [&](const ChannelProfile& p) {
             for (std::size_t i = 0; i < order.size(); ++i)
                 if (order[i] == p.name) return i;

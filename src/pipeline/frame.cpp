@@ -99,6 +99,9 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
     for (const CryptomatteLayer& layer : cryptomatteLayers(files_))  // sidecar manifests ("" for none)
         run.other_reads.push_back(cryptomatteSidecarPath(layer));
     checkRunFiles(run, targets_.overwrite_input);
+    beauty_.prepare(files_, mapping, options_.mapping, options_.beauty, attributes_, outputs_, label(),
+                    report_.warnings);
+    report_.beauty = beauty_.report();
 
     // (A scene built in code with no decals, as batch --io-only passes, asked for nothing.)
     if (decals_.empty() && !(scene.decals.empty() && scene.source.empty()))
@@ -138,6 +141,7 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
         report_.warnings.push_back(std::move(warning));
     // Decal masks for this frame; their warnings name the first input by the label, as above.
     evaluateMasks(files_, mapping, scene, gbuffer_, &report_.warnings, {options_.label});
+    beauty_.read(files_, mapping, gbuffer_, camera_, !targets_.preview.empty());
     prepared_ = true;
 }
 
@@ -146,12 +150,14 @@ void Frame::composite(Compositor& compositor) {
     if (decals_.empty()) return;  // nothing alive on this frame: the output is the input
     if (!targets_.preview.empty()) before_ = gbuffer_;
     if (animated_) compositor.setDecals(decals_);  // textures stay on the device
-    report_.stats = compositor.composite(gbuffer_, camera_, options_.compositing);
+    report_.stats = compositor.composite(gbuffer_, camera_, options_.compositing, beauty_.planes());
     std::size_t changed = 0;
     for (Attribute attribute : attributes_)
         if (gbuffer_.has(attribute))
             changed += storeAttribute(files_, report_.mapping, attribute, gbuffer_.planes.at(attribute));
     report_.changed_samples = changed;
+    beauty_.store(files_, report_.mapping);
+    report_.beauty = beauty_.report();
     if (changed == 0)
         report_.warnings.push_back(fmt::format(
             "{}: no decal changed any pixel: check that the decals' boxes reach visible surfaces (position, size, "
@@ -167,7 +173,7 @@ const std::vector<std::string>& Frame::writeBack() {
     const GBuffer& before = before_ ? *before_ : gbuffer_;
     const ChunkWriteStats chunks = writeOutputsTogether(
         pending, targets_.preview.empty() ? nullptr : &targets_.preview,
-        [&](const std::string& preview_path) { writePreview(before, gbuffer_, camera_, preview_path); });
+        [&](const std::string& preview_path) { writePreview(before, gbuffer_, camera_, preview_path, beauty_.before(), beauty_.after()); });
     report_.chunks_copied = chunks.copied;
     report_.chunks_reencoded = chunks.reencoded;
     report_.pixels_reencoded = chunks.pixels_reencoded;

@@ -1,6 +1,7 @@
 // PNG preview, sRGB-encoded for viewing: the input albedo beside the composited albedo and, when
 // the frames have a normal plane, a second row with a simple lit view of each, so a person can see
-// what a normal-mapped decal did (the albedo row alone does not show the normals).
+// what a normal-mapped decal did (the albedo row alone does not show the normals), and, when the
+// beauty was rebuilt, a last row with the beauty before and after, tone-mapped for display.
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 #include <glm/glm.hpp>
@@ -17,10 +18,13 @@
 
 namespace decalcomp {
 
-void writePreview(const GBuffer& before, const GBuffer& after, const Camera& camera, const std::string& path) {
+void writePreview(const GBuffer& before, const GBuffer& after, const Camera& camera, const std::string& path,
+                  const Plane* beauty_before, const Plane* beauty_after) {
     const int w = before.width, h = before.height, gap = 4;
     const bool lit = before.has(Attribute::Normal) && after.has(Attribute::Normal);
-    const int out_w = 2 * w + gap, out_h = lit ? 2 * h + gap : h;
+    const bool beauty = beauty_before && beauty_after;
+    const int rows = 1 + (lit ? 1 : 0) + (beauty ? 1 : 0);
+    const int out_w = 2 * w + gap, out_h = rows * h + (rows - 1) * gap;
     std::vector<unsigned char> pixels(std::size_t(out_w) * out_h * 3, 0);
     auto store = [&](int x, int y, int c, float v) {
         const float encoded = linearToSrgb(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f));
@@ -51,6 +55,20 @@ void writePreview(const GBuffer& before, const GBuffer& after, const Camera& cam
     };
     put(before, 0);
     put(after, w + gap);
+    // The beauty is scene-linear and may exceed 1: Reinhard (x / (1 + x)) keeps highlights apart.
+    auto putBeauty = [&](const Plane& plane, int x_offset) {
+        const int y_offset = (rows - 1) * (h + gap);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const float v = std::max(plane.at(std::size_t(y) * w + x, c), 0.0f);
+                    store(x + x_offset, y + y_offset, c, v / (1.0f + v));
+                }
+    };
+    if (beauty) {
+        putBeauty(*beauty_before, 0);
+        putBeauty(*beauty_after, w + gap);
+    }
     auto out = OIIO::ImageOutput::create("png");
     OIIO::ImageSpec spec(out_w, out_h, 3, OIIO::TypeDesc::UINT8);
     if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close()) {

@@ -22,6 +22,7 @@
 #include "decalcomp/device.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/synth.hpp"
+#include "decalcomp/synth_light.hpp"
 #include "transfers.hpp"
 
 namespace {
@@ -85,10 +86,24 @@ struct Options {
     std::string kind = "box";    // decal kind of every decal
     bool materials = false;      // full texture sets: normal maps and ORM into normal/roughness/metallic
     bool transfers = true;       // measure the transfer and bandwidth floors per size
+    bool beauty = false;         // also rebuild a beauty from two light terms (synth_light.hpp)
 };
 
+// The beauty update's planes for a frame: the synthetic sun and sky, divided (Blender-style).
+BeautyPlanes benchBeautyPlanes(const GBuffer& full) {
+    const synth::LightPasses light = synth::lightPasses(full);
+    BeautyPlanes planes;
+    planes.beauty = {3, std::vector<float>(full.pixelCount() * 3)};
+    for (std::size_t i = 0; i < full.pixelCount(); ++i)
+        for (int c = 0; c < 3; ++c) planes.beauty.at(i, c) = light.beauty.at(i, c);
+    planes.light = {light.direct, light.indirect};
+    planes.direct_terms = 1;
+    planes.summed_terms = 2;
+    return planes;
+}
+
 Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camera, int decals, bool binned,
-               int repeat) {
+               int repeat, const BeautyPlanes* beauty) {
     Result r;
     r.size = {frame.width, frame.height};
     r.decals = decals;
@@ -96,9 +111,11 @@ Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camer
     const CompositeOptions options{binned};
     const Plane pristine = frame.planes.at(Attribute::Albedo);
     GBuffer work = frame;
+    std::optional<BeautyPlanes> work_beauty;
+    if (beauty) work_beauty = *beauty;
 
     // Warm-up: first launches, allocations, lazy compilation in some drivers.
-    CompositeStats warm = compositor.composite(work, camera, options);
+    CompositeStats warm = compositor.composite(work, camera, options, work_beauty ? &*work_beauty : nullptr);
     r.tiles = warm.tiles;
     const int expected_tiles = ((frame.width + kTileSize - 1) / kTileSize) * ((frame.height + kTileSize - 1) / kTileSize);
     if (warm.tiles != expected_tiles)
@@ -116,8 +133,9 @@ Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camer
     std::vector<double> kernel, tile_bounds, binning, shading, wall;
     for (int i = 0; i < repeat; ++i) {
         work.planes.at(Attribute::Albedo) = pristine;  // same input every repetition, not timed
+        if (beauty) *work_beauty = *beauty;
         const auto t0 = std::chrono::steady_clock::now();
-        const CompositeStats s = compositor.composite(work, camera, options);
+        const CompositeStats s = compositor.composite(work, camera, options, work_beauty ? &*work_beauty : nullptr);
         const auto t1 = std::chrono::steady_clock::now();
         kernel.push_back(s.totalKernelMs());
         tile_bounds.push_back(s.tile_bounds_ms);
@@ -275,6 +293,8 @@ int main(int argc, char** argv) {
                  "roughness and metallic planes (default: albedo only)");
     app.add_option("--kind", opt.kind, "decal kind of every decal")
         ->check(CLI::IsMember({"box", "volume", "frustum", "cube"}));
+    app.add_flag("--beauty", opt.beauty,
+                 "also rebuild a beauty from a direct and an indirect light term in the shading kernel");
     bool no_transfers = false;
     app.add_flag("--no-transfers", no_transfers, "skip measuring the transfer and bandwidth floors");
     bool list = false;
@@ -328,6 +348,8 @@ int main(int argc, char** argv) {
         for (const FrameSize& size : sizes) {
             const Camera camera = synth::demoCamera(size.width, size.height);
             GBuffer full = synth::render(scene, camera, synth::RenderOptions{size.width, size.height});
+            const std::optional<BeautyPlanes> beauty_planes =
+                opt.beauty ? std::optional<BeautyPlanes>(benchBeautyPlanes(full)) : std::nullopt;
             for (int count : opt.counts) {
                 synth::ScatterOptions scatter;
                 scatter.count = count;
@@ -372,7 +394,8 @@ int main(int argc, char** argv) {
                         continue;
                     }
                     const auto t0 = std::chrono::steady_clock::now();
-                    results.push_back(runCase(compositor, frame, camera, count, binned, opt.repeat));
+                    results.push_back(runCase(compositor, frame, camera, count, binned, opt.repeat,
+                                              beauty_planes ? &*beauty_planes : nullptr));
                     fmt::print(info, " kernel {} ms ({:.1f} s)\n", ms(results.back().kernel_ms),
                                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
                     std::fflush(info);

@@ -59,6 +59,7 @@ Command addCompositeCommand(CLI::App& app) {
                   "Print the device's and the writer's figures: kernels, changed samples, chunks copied and re-encoded "
                   "(even with --quiet)");
     addMappingOptions(*cmd, flags->options.mapping, flags->channels, flags->depth);
+    addBeautyOptions(*cmd, flags->options.beauty);
     addPassOptions(*cmd, flags->passes);
     return [flags] {
         finishMappingOptions(flags->options.mapping, flags->channels, flags->depth);
@@ -87,6 +88,12 @@ Command addCompositeCommand(CLI::App& app) {
         if (report.camera_solve)
             std::cout << "camera solve: " << report.camera_solve->summary() << fmt::format(
                 ", near {:.6g}, far {:.6g}\n", report.camera_solve->near_plane, report.camera_solve->far_plane);
+        if (report.beauty.rebuilt) {
+            std::cout << "beauty: " << report.beauty.summary << "\n";
+            if (report.beauty.fit)
+                std::cout << fmt::format("relight: direct light fit over {} pixels, rms residual {:.4g}\n",
+                                         report.beauty.fit->pixels, report.beauty.fit->rms);
+        }
         if (report.depth_check.performed) std::cout << "depth check: " << report.depth_check.summary() << "\n";
         if (report.normal_check.performed) std::cout << "normal check: " << report.normal_check.summary() << "\n";
     };

@@ -7,6 +7,7 @@
 #include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_file.hpp"
+#include "decalcomp/frame_beauty.hpp"
 #include "decalcomp/gbuffer_exr.hpp"
 #include "decalcomp/pipeline.hpp"
 #include "decalcomp/sequence_conventions.hpp"
@@ -110,6 +111,8 @@ void printInfo(const InfoFlags& f) {
     if (mapping.attributes.count(Attribute::Normal))
         std::cout << "normals: " << normalSpaceName(mapping.normals.space) << " space, "
                   << (mapping.normals.packed ? "packed" : "signed") << "\n";
+    std::cout << "beauty:\n";
+    for (const std::string& line : findBeautyPasses(files, mapping, f.mapping).describe()) std::cout << "  " << line << "\n";
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <functional>
 #include <map>
 
+#include "decalcomp/beauty.hpp"
 #include "decalcomp/channel_mapping.hpp"
 
 namespace decalcomp::cli {
@@ -22,6 +23,9 @@ void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<s
 // Validates and folds the raw flags into options; throws Error(Usage) naming the flag.
 void finishMappingOptions(MappingOptions& options, const std::vector<std::string>& channel_flags,
                           const std::string& depth_flag);
+
+// --beauty auto|on|off and --relight: shared by composite and batch.
+void addBeautyOptions(CLI::App& command, BeautyOptions& options);
 
 // --pass ATTR=FILE (repeatable): one attribute from its own file. Shared by composite and info.
 void addPassOptions(CLI::App& command, std::vector<std::string>& pass_flags);

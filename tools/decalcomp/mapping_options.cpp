@@ -14,7 +14,7 @@ void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<s
                        std::string& depth_flag) {
     command.add_option("--profile", options.profile,
                        "Channel naming profile: auto, or a profile name (built-in: generic, blender, arnold, "
-                       "renderman, unreal; or one from --profile-file)")
+                       "renderman, unreal, vray; or one from --profile-file)")
         ->default_str("auto");
     command.add_option("--profile-file", options.profile_files,
                        "JSON file of renderer profiles to consider ahead of the built-ins (repeatable; "

@@ -13,6 +13,7 @@
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/header_camera.hpp"
+#include "decalcomp/synth_light.hpp"
 
 namespace decalcomp::gen {
 
@@ -217,19 +218,9 @@ void sortChannels(ExrPart& part) {
 }  // namespace
 
 std::vector<float> beautyShade(const GBuffer& g) {
-    const std::vector<float>& albedo = planeSamples(g, Attribute::Albedo, 3);
-    const std::vector<float>& normal = planeSamples(g, Attribute::Normal, 3);
-    const glm::vec3 sun = glm::normalize(glm::vec3(0.4f, -0.6f, 0.7f));
-    const float ambient = 0.25f, direct = 0.9f;
-    std::vector<float> rgba(g.pixelCount() * 4, 0.0f);
-    for (std::size_t i = 0; i < g.pixelCount(); ++i) {
-        const glm::vec3 n(normal[i * 3], normal[i * 3 + 1], normal[i * 3 + 2]);
-        if (!(glm::dot(n, n) > 0.25f)) continue;  // background
-        const float light = ambient + direct * std::max(0.0f, glm::dot(n, sun));
-        for (int c = 0; c < 3; ++c) rgba[i * 4 + c] = albedo[i * 3 + c] * light;
-        rgba[i * 4 + 3] = 1.0f;
-    }
-    return rgba;
+    planeSamples(g, Attribute::Albedo, 3);  // named errors for missing planes
+    planeSamples(g, Attribute::Normal, 3);
+    return synth::lightPasses(g).beauty.samples;
 }
 
 ExrImage gbufferToExr(const GBuffer& g, const ExrLayoutOptions& options) {
@@ -237,9 +228,18 @@ ExrImage gbufferToExr(const GBuffer& g, const ExrLayoutOptions& options) {
     if (options.multipart && options.naming != Naming::Blender && options.naming != Naming::Generic)
         throw outputError("multi-part output is for blender and generic naming");
     const std::vector<float> beauty = beautyShade(g);
+    const synth::LightPasses light = options.light_passes ? synth::lightPasses(g) : synth::LightPasses{};
     const std::vector<float> extra =
         options.naming == Naming::RenderMan ? cameraSpaceNormals(g, options.camera) : std::vector<float>();
-    const std::vector<Pass> passes = passesFor(g, beauty, extra, options);
+    std::vector<Pass> passes = passesFor(g, beauty, extra, options);
+    if (options.light_passes) {
+        if (options.naming != Naming::Blender) throw outputError("--light-passes is for blender naming");
+        for (const auto& [pass, plane] : {std::pair{"DiffDir", &light.direct}, std::pair{"DiffInd", &light.indirect}}) {
+            const std::string part = options.layer + "." + pass;
+            passes.push_back({part, {"R", "G", "B"}, {part + ".R", part + ".G", part + ".B"}, SampleType::Float,
+                              &plane->samples, 3});
+        }
+    }
     const std::size_t pixels = g.pixelCount();
 
     ExrImage image;

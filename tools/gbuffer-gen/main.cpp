@@ -39,6 +39,7 @@ struct Options {
     std::string lens_shift;   // "sx,sy" in NDC half-units (Blender's shift x2)
     double ortho = 0.0;       // > 0: orthographic camera with this half height
     bool header_camera = false;
+    bool light_passes = false;
     std::string output;
     std::string camera_json;
 };
@@ -138,6 +139,7 @@ int run(const Options& o, bool seed_given, bool layer_given, bool naming_given) 
     layout.half = o.half;
     layout.compression = compressions.at(o.compression);
     layout.multipart = o.multipart;
+    layout.light_passes = o.light_passes;
     if (o.header_camera) layout.header_camera = camera;
 
     if (o.per_pass) {
@@ -199,6 +201,8 @@ int main(int argc, char** argv) {
                    "it may reach outside it (overscan, negative origin) or lie inside it (crop)");
     app.add_flag("--header-camera", o.header_camera,
                  "Also write the camera as worldToCamera/worldToNDC/clipNear/clipFar header attributes");
+    app.add_flag("--light-passes", o.light_passes,
+                 "Also write Blender's DiffDir and DiffInd (divided by DiffCol); Combined is exactly their sum");
     app.add_option("-o,--output", o.output, "Output EXR file")->required();
     app.add_option("--camera", o.camera_json, "Camera JSON file (default: beside the EXR, <stem>.camera.json)");
 

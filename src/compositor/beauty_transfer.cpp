@@ -1,0 +1,71 @@
+#include "compositor/beauty_transfer.hpp"
+
+#include <fmt/format.h>
+
+#include "decalcomp/error.hpp"
+
+namespace decalcomp {
+
+namespace {
+
+// As the surface groups: packing is memory traffic, spread over the cores for large frames.
+constexpr std::ptrdiff_t kParallelPixels = 1 << 16;
+
+void packRgb(const Plane& plane, float* out) {
+    const auto pixels = std::ptrdiff_t(plane.samples.size() / 3);
+    const float* in = plane.samples.data();
+#pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
+    for (std::ptrdiff_t i = 0; i < pixels; ++i) {
+        float* o = out + i * 4;
+        o[0] = in[i * 3], o[1] = in[i * 3 + 1], o[2] = in[i * 3 + 2], o[3] = 0.0f;
+    }
+}
+
+void unpackRgb(Plane& plane, const float* result) {
+    const auto pixels = std::ptrdiff_t(plane.samples.size() / 3);
+    float* out = plane.samples.data();
+#pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
+    for (std::ptrdiff_t i = 0; i < pixels; ++i)
+        for (int c = 0; c < 3; ++c) out[i * 3 + c] = result[i * 4 + c];
+}
+
+}  // namespace
+
+void setBeautyParams(cl_types::DcFrame& params, const BeautyPlanes* planes) {
+    params.beauty = planes ? 1 : 0;
+    params.light_terms = planes ? int(planes->light.size()) : 0;
+    params.direct_terms = planes ? planes->direct_terms : 0;
+    params.summed_terms = planes ? planes->summed_terms : 0;
+    params.light_divided = planes && !planes->divided ? 0 : 1;
+    params.beauty_emission = planes && planes->emission ? 1 : 0;
+    params.relight = planes && planes->relight ? 1 : 0;
+    for (int c = 0; c < 4; ++c) params.light_fit[c] = planes ? planes->light_fit[c] : 0.0f;
+}
+
+void checkBeautyPlanes(const BeautyPlanes& planes, std::size_t pixels) {
+    auto check = [&](const Plane& plane, const std::string& what) {
+        if (plane.components != 3 || plane.samples.size() != pixels * 3)
+            throw inputError(fmt::format("beauty update: the {} plane does not match the frame ({} pixels, RGB)",
+                                         what, pixels));
+    };
+    check(planes.beauty, "beauty");
+    for (std::size_t t = 0; t < planes.light.size(); ++t) check(planes.light[t], fmt::format("light term {}", t));
+    if (planes.direct_terms < 0 || planes.summed_terms < planes.direct_terms ||
+        planes.summed_terms > int(planes.light.size()))
+        throw inputError("beauty update: direct and summed term counts out of range");
+}
+
+void packBeautyPlanes(const BeautyPlanes& planes, float* beauty, float* light) {
+    packRgb(planes.beauty, beauty);
+    const std::size_t pixels = planes.beauty.samples.size() / 3;
+    for (std::size_t t = 0; t < planes.light.size(); ++t) packRgb(planes.light[t], light + t * pixels * 4);
+}
+
+void unpackBeautyPlanes(BeautyPlanes& planes, const float* beauty, const float* light) {
+    unpackRgb(planes.beauty, beauty);
+    if (!planes.lightRewritten()) return;
+    const std::size_t pixels = planes.beauty.samples.size() / 3;
+    for (std::size_t t = 0; t < planes.light.size(); ++t) unpackRgb(planes.light[t], light + t * pixels * 4);
+}
+
+}  // namespace decalcomp
