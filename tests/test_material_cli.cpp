@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -79,7 +80,8 @@ std::vector<std::string> allChannels(const ExrImage& image) {
 }
 
 // The raw bytes of a single-part file's header as stored: magic and version, then every attribute
-// (name, type, size, value) up to the terminating null byte.
+// (name, type, size, value), each byte for byte but in name order: the chunk-copying writer
+// (OpenEXR's core API, issue 13) stores the part's type attribute first.
 std::string rawHeader(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -91,15 +93,21 @@ std::string rawHeader(const std::string& path) {
         p = end + 1;
         return s;
     };
+    std::vector<std::string> attributes;
     while (true) {
+        const std::size_t start = p;
         if (cstring().empty()) break;  // the null byte that ends the header
         cstring();                     // type name
         if (p + 4 > bytes.size()) throw std::runtime_error(path + ": truncated header");
         std::int32_t size = 0;
         std::memcpy(&size, bytes.data() + p, 4);
         p += 4 + std::size_t(size);
+        attributes.push_back(bytes.substr(start, p - start));
     }
-    return bytes.substr(0, p);
+    std::sort(attributes.begin(), attributes.end());
+    std::string header = bytes.substr(0, 8);
+    for (const std::string& attribute : attributes) header += attribute;
+    return header;
 }
 
 void gen(const std::string& arguments, const std::string& output, const std::string& camera) {

@@ -113,8 +113,8 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
                               label()));
     if (!decals_.empty() && !anyChunkDecoded(files_)) {
         report_.warnings.push_back(fmt::format(
-            "{}: no decal changed any pixel: no decal is on screen (their volumes project outside the camera's "
-            "view); check the decals' positions and the camera; the output is the input unchanged",
+            "{}: no decal changed any pixel: check the decals' positions and the camera: no decal is on screen (their "
+            "volumes project outside the camera's view); the output is the input unchanged",
             label()));
         decals_.clear();
     }
