@@ -23,6 +23,15 @@ fs::path makeScratchDir() {
     return dir;
 }
 
+// A hostile header may claim any size up to the memory cap, and the checks admit what the cap
+// allows: with the machine's memory as the cap, inputs that decode to gigabytes are legal and
+// cost seconds each. 16 MiB keeps every path (the cap's refusal included) at fuzzing speed. An
+// explicit DECALCOMP_MAX_MEMORY wins.
+void capInputMemory() {
+    static const bool once = [] { return ::setenv("DECALCOMP_MAX_MEMORY", "16M", /*overwrite=*/0) == 0; }();
+    (void)once;
+}
+
 }  // namespace
 
 const fs::path& scratchDir() {
@@ -39,6 +48,7 @@ const fs::path& scratchDir() {
 }
 
 std::string writeScratchFile(const std::string& relative, std::string_view bytes) {
+    capInputMemory();
     const fs::path path = scratchDir() / relative;
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(bytes.data(), std::streamsize(bytes.size()));
