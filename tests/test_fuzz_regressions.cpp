@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "decalcomp/error.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "fuzz/fuzz_targets.hpp"
 
 namespace decalcomp::fuzz {
@@ -52,6 +54,25 @@ TEST_P(FuzzRegressions, EmptyInputIsHarmless) {
 INSTANTIATE_TEST_SUITE_P(Targets, FuzzRegressions,
                          ::testing::Values("camera", "cryptomatte", "exr", "profile", "scene", "texture"),
                          [](const auto& test) { return test.param; });
+
+// Found by the exr target: a header with duplicated attributes that OpenEXR's core reader skips
+// and its C++ reader takes, so the size checks saw 16x16 and the reader allocated gigabytes. Both
+// must be refused at once, whatever the memory limit.
+TEST(FuzzFindings, HeadersTheTwoOpenExrReadersReadDifferentlyAreRefused) {
+    for (const char* name : {"duplicated-data-window-16M-wide-dwaa.exr", "duplicated-data-window-250M-wide.exr"}) {
+        const std::string path = (fs::path(DECALCOMP_FUZZ_DIR) / "regressions" / "exr" / name).string();
+        SCOPED_TRACE(path);
+        try {
+            (void)readExr(path);
+            ADD_FAILURE() << "read without an error";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::Input);
+            const std::string message = e.what();
+            EXPECT_NE(message.find(path + ": header: "), std::string::npos) << message;
+            EXPECT_NE(message.find("Duplicate copy of required attribute"), std::string::npos) << message;
+        }
+    }
+}
 
 // A folder of saved inputs must belong to a target, or its inputs would never be replayed.
 TEST(FuzzRegressionFolders, NameKnownTargets) {

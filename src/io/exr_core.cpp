@@ -24,9 +24,17 @@ void CoreContext::remember(exr_const_context_t, exr_result_t, const char* messag
 CoreContext::CoreContext(const std::string& path, Mode mode) : path_(path), mode_(mode) {
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = &CoreContext::remember;  // instead of OpenEXR's own stderr lines
+    last_message.clear();
     const exr_result_t result = mode == Mode::Read
                                     ? exr_start_read(&context_, path.c_str(), &init)
                                     : exr_start_write(&context_, path.c_str(), EXR_WRITE_FILE_DIRECTLY, &init);
+    if (result == EXR_ERR_SUCCESS && mode == Mode::Read && !last_message.empty()) {
+        // The core reader skipped something it objected to (a duplicated attribute, say) where
+        // OpenEXR's C++ reader takes the last copy: the two would read different files, and every
+        // size check made here would be about the wrong one (found by fuzzing).
+        exr_finish(&context_);
+        throw inputError(fmt::format("{}: header: {}; the header is corrupt", path, reason(result)));
+    }
     if (result == EXR_ERR_SUCCESS) return;
     const std::string text = fmt::format("{}: cannot {}: {}", path, mode == Mode::Read ? "read" : "write", reason(result));
     if (mode == Mode::Read) throw inputError(text);

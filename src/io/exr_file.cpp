@@ -11,14 +11,18 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_file.hpp"
 #include "decalcomp/input_file.hpp"
+#include "decalcomp/memory_limit.hpp"
 #include "decalcomp/temporary_files.hpp"
 #include "io/exr_chunk_copy.hpp"
 #include "io/exr_layout.hpp"
@@ -53,6 +57,30 @@ void requireFlatSingleLevel(const Imf::Header& header, int index, const std::str
 }
 
 void readChunks(Imf::MultiPartInputFile& file, int index, const ExrPart& part, const Imf::FrameBuffer& frame_buffer);
+
+// The planes readPart allocates, from the headers it allocates them by, against the memory limit.
+// requirePlausibleExr checked the core reader's view first; this one is the C++ reader's, so a
+// header the two read differently cannot slip past (defence in depth).
+void requireDecodableSize(const Imf::MultiPartInputFile& file, const std::string& path) {
+    std::uint64_t total = 0;
+    for (int i = 0; i < file.parts(); ++i) {
+        const Imath::Box2i dw = file.header(i).dataWindow();
+        const std::uint64_t width = std::uint64_t(std::int64_t(dw.max.x) - dw.min.x + 1);
+        const std::uint64_t height = std::uint64_t(std::int64_t(dw.max.y) - dw.min.y + 1);
+        const std::string what = fmt::format("part {}: dataWindow {}x{}", i, width, height);
+        const Imf::ChannelList& channels = file.header(i).channels();
+        for (auto it = channels.begin(); it != channels.end(); ++it) {
+            const int xs = std::max(it.channel().xSampling, 1), ys = std::max(it.channel().ySampling, 1);
+            const auto samples = checkedProduct((width + std::uint64_t(xs) - 1) / std::uint64_t(xs),
+                                                (height + std::uint64_t(ys) - 1) / std::uint64_t(ys));
+            const auto bytes = samples ? checkedProduct(*samples, it.channel().type == Imf::HALF ? 2 : 4) : std::nullopt;
+            if (!bytes || total + *bytes < total)
+                throw inputError(fmt::format("{}: {}: overflows; the header is corrupt", path, what));
+            total += *bytes;
+        }
+        requireWithinMemoryLimit(total, path, what);
+    }
+}
 
 ExrPart readPart(Imf::MultiPartInputFile& file, int index, const std::string& path, const ExrReadRegion& region) {
     const Imf::Header& header = file.header(index);
@@ -221,6 +249,7 @@ ExrImage readExr(const std::string& path, const ExrReadRegion& region) {
     image.path = path;
     try {
         Imf::MultiPartInputFile file(path.c_str());
+        requireDecodableSize(file, path);
         for (int i = 0; i < file.parts(); ++i) image.parts.push_back(readPart(file, i, path, region));
     } catch (const Error&) {
         throw;

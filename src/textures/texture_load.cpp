@@ -1,10 +1,12 @@
 // Decodes decal textures to linear, premultiplied RGBA float (the layout Texture2D promises).
+#include <OpenEXR/ImfVersion.h>
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <vector>
 
@@ -12,6 +14,7 @@
 #include "decalcomp/input_file.hpp"
 #include "decalcomp/memory_limit.hpp"
 #include "decalcomp/textures.hpp"
+#include "io/exr_plausibility.hpp"
 #include "textures/quiet_stderr.hpp"
 
 namespace decalcomp {
@@ -142,7 +145,17 @@ void checkSpec(const OIIO::ImageSpec& spec, const std::string& path) {
     requireWithinMemoryLimit(decoded, path, fmt::format("{}x{} texture", spec.width, spec.height));
 }
 
+// OpenImageIO's EXR reader allocates the chunk tables a header claims while it opens the file,
+// before checkSpec can look at the size: EXR textures get the frames' checks first (found by
+// fuzzing: a header claiming a huge window took gigabytes inside open()).
+void requirePlausibleExrTexture(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    char magic[4] = {};
+    if (in.read(magic, sizeof magic) && Imf::isImfMagic(magic)) io::requirePlausibleExr(path);
+}
+
 Texture2D decodeTexture(const std::string& path, AlphaMode alpha, TextureContent content) {
+    requirePlausibleExrTexture(path);
 
     // Without this hint OIIO premultiplies 8-bit straight-alpha PNG/TGA on read.
     OIIO::ImageSpec config;
