@@ -215,6 +215,40 @@ void sortChannels(ExrPart& part) {
               [](const ExrChannel& a, const ExrChannel& b) { return a.name < b.name; });
 }
 
+// The diffuse light passes in a renderer's naming: Blender divides them by DiffCol; Arnold and
+// RenderMan store them multiplied by the albedo (their profiles' "light" model).
+struct LightSamples {
+    std::vector<float> direct, indirect;  // RGB, interleaved
+};
+
+bool lightMultiplied(Naming naming) { return naming == Naming::Arnold || naming == Naming::RenderMan; }
+
+LightSamples lightSamples(const GBuffer& g, Naming naming) {
+    if (naming != Naming::Blender && !lightMultiplied(naming))
+        throw outputError("--light-passes is for blender, arnold and renderman naming");
+    synth::LightPasses light = synth::lightPasses(g);
+    if (lightMultiplied(naming)) {
+        const Plane& albedo = g.planes.at(Attribute::Albedo);
+        for (std::size_t i = 0; i < g.pixelCount(); ++i)
+            for (int c = 0; c < 3; ++c) light.direct.at(i, c) *= albedo.at(i, c), light.indirect.at(i, c) *= albedo.at(i, c);
+    }
+    return {std::move(light.direct.samples), std::move(light.indirect.samples)};
+}
+
+void addLightPasses(std::vector<Pass>& passes, const LightSamples& light, const ExrLayoutOptions& options) {
+    struct Names {
+        std::string direct, indirect, components;
+    };
+    const Names names = options.naming == Naming::Blender ? Names{options.layer + ".DiffDir", options.layer + ".DiffInd", "RGB"}
+                        : options.naming == Naming::Arnold ? Names{"diffuse_direct", "diffuse_indirect", "RGB"}
+                                                           : Names{"directDiffuse", "indirectDiffuse", "rgb"};
+    for (const auto& [part, samples] : {std::pair{names.direct, &light.direct}, std::pair{names.indirect, &light.indirect}}) {
+        std::vector<std::string> channels, flat;
+        for (char c : names.components) channels.push_back(std::string(1, c)), flat.push_back(part + "." + c);
+        passes.push_back({part, channels, flat, SampleType::Float, samples, 3});
+    }
+}
+
 }  // namespace
 
 std::vector<float> beautyShade(const GBuffer& g) {
@@ -228,18 +262,11 @@ ExrImage gbufferToExr(const GBuffer& g, const ExrLayoutOptions& options) {
     if (options.multipart && options.naming != Naming::Blender && options.naming != Naming::Generic)
         throw outputError("multi-part output is for blender and generic naming");
     const std::vector<float> beauty = beautyShade(g);
-    const synth::LightPasses light = options.light_passes ? synth::lightPasses(g) : synth::LightPasses{};
     const std::vector<float> extra =
         options.naming == Naming::RenderMan ? cameraSpaceNormals(g, options.camera) : std::vector<float>();
     std::vector<Pass> passes = passesFor(g, beauty, extra, options);
-    if (options.light_passes) {
-        if (options.naming != Naming::Blender) throw outputError("--light-passes is for blender naming");
-        for (const auto& [pass, plane] : {std::pair{"DiffDir", &light.direct}, std::pair{"DiffInd", &light.indirect}}) {
-            const std::string part = options.layer + "." + pass;
-            passes.push_back({part, {"R", "G", "B"}, {part + ".R", part + ".G", part + ".B"}, SampleType::Float,
-                              &plane->samples, 3});
-        }
-    }
+    const LightSamples light = options.light_passes ? lightSamples(g, options.naming) : LightSamples{};
+    if (options.light_passes) addLightPasses(passes, light, options);
     const std::size_t pixels = g.pixelCount();
 
     ExrImage image;

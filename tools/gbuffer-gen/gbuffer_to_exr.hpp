@@ -26,7 +26,8 @@ struct ExrLayoutOptions {
     bool multipart = false;           // one part per pass, part name = pass name (blender, generic)
     std::optional<Camera> header_camera;  // also written as worldToCamera/worldToNDC
     Camera camera;                        // for camera-space passes (RenderMan's Nn)
-    bool light_passes = false;            // Blender's DiffDir and DiffInd (synth_light.hpp); beauty = their sum
+    bool light_passes = false;            // the diffuse light passes (synth_light.hpp): Blender's DiffDir/DiffInd
+                                          // (divided), Arnold's and RenderMan's (multiplied); beauty = their sum
 };
 
 // A plain lit shade of the albedo (fixed sun + ambient, no shadows) as RGBA, 4 floats a pixel;

@@ -202,7 +202,9 @@ int main(int argc, char** argv) {
     app.add_flag("--header-camera", o.header_camera,
                  "Also write the camera as worldToCamera/worldToNDC/clipNear/clipFar header attributes");
     app.add_flag("--light-passes", o.light_passes,
-                 "Also write Blender's DiffDir and DiffInd (divided by DiffCol); Combined is exactly their sum");
+                 "Also write the diffuse light passes: Blender's DiffDir/DiffInd (divided by DiffCol), Arnold's "
+                 "diffuse_direct/indirect, RenderMan's directDiffuse/indirectDiffuse (multiplied by the albedo); "
+                 "the beauty is exactly their shade");
     app.add_option("-o,--output", o.output, "Output EXR file")->required();
     app.add_option("--camera", o.camera_json, "Camera JSON file (default: beside the EXR, <stem>.camera.json)");
 
