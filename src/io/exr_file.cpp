@@ -261,6 +261,7 @@ ExrImage readExr(const std::string& path, const ExrReadRegion& region) {
 
 std::vector<Imf::Header> readExrHeaders(const std::string& path) {
     requireExrMagic(path);
+    io::requirePlausibleExr(path);  // hostile headers fail here, naming the field, as in readExr
     std::vector<Imf::Header> headers;
     try {
         Imf::MultiPartInputFile file(path.c_str());
