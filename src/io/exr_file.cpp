@@ -11,13 +11,11 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <optional>
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_file.hpp"
@@ -70,10 +68,8 @@ void requireDecodableSize(const Imf::MultiPartInputFile& file, const std::string
         const std::string what = fmt::format("part {}: dataWindow {}x{}", i, width, height);
         const Imf::ChannelList& channels = file.header(i).channels();
         for (auto it = channels.begin(); it != channels.end(); ++it) {
-            const int xs = std::max(it.channel().xSampling, 1), ys = std::max(it.channel().ySampling, 1);
-            const auto samples = checkedProduct((width + std::uint64_t(xs) - 1) / std::uint64_t(xs),
-                                                (height + std::uint64_t(ys) - 1) / std::uint64_t(ys));
-            const auto bytes = samples ? checkedProduct(*samples, it.channel().type == Imf::HALF ? 2 : 4) : std::nullopt;
+            const auto bytes = io::decodedChannelBytes(width, height, it.channel().xSampling, it.channel().ySampling,
+                                                       it.channel().type == Imf::HALF ? 2 : 4);
             if (!bytes || total + *bytes < total)
                 throw inputError(fmt::format("{}: {}: overflows; the header is corrupt", path, what));
             total += *bytes;

@@ -52,10 +52,6 @@ struct PartSize {
 
 std::uint64_t bytesPerSample(exr_pixel_type_t type) { return type == EXR_PIXEL_HALF ? 2 : 4; }
 
-std::uint64_t sampledCount(std::uint64_t extent, std::int32_t sampling) {
-    return sampling > 0 ? (extent + std::uint64_t(sampling) - 1) / std::uint64_t(sampling) : extent;
-}
-
 PartSize partSize(const CoreReader& reader, int part, const std::string& path) {
     exr_attr_box2i_t window{};
     reader.require(exr_get_data_window(reader.context(), part, &window), part, "dataWindow");
@@ -71,9 +67,8 @@ PartSize partSize(const CoreReader& reader, int part, const std::string& path) {
     PartSize size{std::uint64_t(width), std::uint64_t(height), 0};
     for (int c = 0; c < channels->num_channels; ++c) {
         const exr_attr_chlist_entry_t& channel = channels->entries[c];
-        const auto samples = checkedProduct(sampledCount(size.width, channel.x_sampling),
-                                            sampledCount(size.height, channel.y_sampling));
-        const auto bytes = samples ? checkedProduct(*samples, bytesPerSample(channel.pixel_type)) : std::nullopt;
+        const auto bytes = decodedChannelBytes(size.width, size.height, channel.x_sampling, channel.y_sampling,
+                                               bytesPerSample(channel.pixel_type));
         if (!bytes || size.bytes + *bytes < size.bytes)
             throw inputError(fmt::format("{}: part {}: dataWindow: {}x{} with {} channels overflows; the header is "
                                          "corrupt",
@@ -202,6 +197,15 @@ std::uint64_t largestChannelListOf(const std::string& path) {
 }
 
 }  // namespace
+
+std::optional<std::uint64_t> decodedChannelBytes(std::uint64_t width, std::uint64_t height, int x_sampling,
+                                                 int y_sampling, std::uint64_t sample_bytes) {
+    const auto sampled = [](std::uint64_t extent, int sampling) {
+        return sampling > 0 ? (extent + std::uint64_t(sampling) - 1) / std::uint64_t(sampling) : extent;
+    };
+    const auto samples = checkedProduct(sampled(width, x_sampling), sampled(height, y_sampling));
+    return samples ? checkedProduct(*samples, sample_bytes) : std::nullopt;
+}
 
 void requirePlausibleExr(const std::string& path) {
     const std::uint64_t channels = largestChannelListOf(path);
