@@ -12,26 +12,22 @@
 #include "decalcomp/synth.hpp"
 #include "decalcomp/synth_light.hpp"
 #include "support/random_scenes.hpp"
+#include "support/exr_test_io.hpp"
 #include "support/test_support.hpp"
 
 namespace decalcomp {
 namespace {
 
-std::vector<float> floats(const ExrImage& image, const std::string& name) {
-    const ExrChannel& c = test::channel(image, name);
-    std::vector<float> out(c.bytes.size() / sizeof(float));
-    std::memcpy(out.data(), c.bytes.data(), c.bytes.size());
-    return out;
-}
+using test::floatSamples;
 
 // PSNR (peak 1) of Combined R,G,B against the truth over the truth's DecalMask > 0.5.
 double beautyPsnr(const ExrImage& result, const ExrImage& truth) {
-    const std::vector<float> mask = floats(truth, "ViewLayer.DecalMask.X");
+    const std::vector<float> mask = floatSamples(truth, "ViewLayer.DecalMask.X");
     double squared = 0;
     std::size_t samples = 0;
     for (const char* c : {"R", "G", "B"}) {
         const std::string name = std::string("ViewLayer.Combined.") + c;
-        const std::vector<float> a = floats(result, name), b = floats(truth, name);
+        const std::vector<float> a = floatSamples(result, name), b = floatSamples(truth, name);
         for (std::size_t i = 0; i < mask.size(); ++i)
             if (mask[i] > 0.5f) squared += double(a[i] - b[i]) * double(a[i] - b[i]), ++samples;
     }
@@ -79,13 +75,13 @@ TEST(BeautyTruth, AlphaLightAndBackgroundStayBitExact) {
     const ExrImage out = readExr(dir.file("out.exr"));
     for (const char* name : {"ViewLayer.Combined.A", "ViewLayer.DiffDir.R", "ViewLayer.DiffInd.B", "ViewLayer.Depth.Z"})
         EXPECT_EQ(test::channel(in, name).bytes, test::channel(out, name).bytes) << name;
-    const std::vector<float> depth = floats(in, "ViewLayer.Depth.Z");
+    const std::vector<float> depth = floatSamples(in, "ViewLayer.Depth.Z");
     std::size_t changed = 0;
     for (const char* c : {"R", "G", "B"}) {
-        const std::vector<float> b0 = floats(in, std::string("ViewLayer.Combined.") + c);
-        const std::vector<float> b1 = floats(out, std::string("ViewLayer.Combined.") + c);
-        const std::vector<float> a0 = floats(in, std::string("ViewLayer.DiffCol.") + c);
-        const std::vector<float> a1 = floats(out, std::string("ViewLayer.DiffCol.") + c);
+        const std::vector<float> b0 = floatSamples(in, std::string("ViewLayer.Combined.") + c);
+        const std::vector<float> b1 = floatSamples(out, std::string("ViewLayer.Combined.") + c);
+        const std::vector<float> a0 = floatSamples(in, std::string("ViewLayer.DiffCol.") + c);
+        const std::vector<float> a1 = floatSamples(out, std::string("ViewLayer.DiffCol.") + c);
         for (std::size_t i = 0; i < depth.size(); ++i) {
             const bool same_beauty = std::memcmp(&b0[i], &b1[i], 4) == 0;
             if (depth[i] >= 1e10f) {
@@ -108,7 +104,7 @@ TEST(BeautyTruth, EdgePixelsGetNoWorseThanUntouched) {
     const ExrImage in = readExr(test::dataPath("blender-beauty-direct/gbuffer.exr"));
     const ExrImage out = readExr(dir.file("out.exr"));
     const ExrImage truth = readExr(test::dataPath("blender-beauty-direct/truth.exr"));
-    const std::vector<float> depth = floats(in, "ViewLayer.Depth.Z"), mask = floats(truth, "ViewLayer.DecalMask.X");
+    const std::vector<float> depth = floatSamples(in, "ViewLayer.Depth.Z"), mask = floatSamples(truth, "ViewLayer.DecalMask.X");
     const int w = in.parts[0].width, h = in.parts[0].height;
     double rebuilt = 0, untouched = 0;
     std::size_t edges = 0;
@@ -123,9 +119,9 @@ TEST(BeautyTruth, EdgePixelsGetNoWorseThanUntouched) {
             ++edges;
             for (const char* c : {"R", "G", "B"}) {
                 const std::string name = std::string("ViewLayer.Combined.") + c;
-                const double t = floats(truth, name)[i];
-                rebuilt += std::pow(floats(out, name)[i] - t, 2);
-                untouched += std::pow(floats(in, name)[i] - t, 2);
+                const double t = floatSamples(truth, name)[i];
+                rebuilt += std::pow(floatSamples(out, name)[i] - t, 2);
+                untouched += std::pow(floatSamples(in, name)[i] - t, 2);
             }
         }
     RecordProperty("edge_pixels", std::to_string(edges));

@@ -12,22 +12,18 @@
 
 #include "decalcomp/exr_file.hpp"
 #include "decalcomp/synth_light.hpp"
+#include "support/exr_test_io.hpp"
 #include "support/test_support.hpp"
 
 namespace decalcomp {
 namespace {
 
-std::vector<float> floats(const ExrImage& image, const std::string& name) {
-    const ExrChannel& c = test::channel(image, name);
-    std::vector<float> out(c.bytes.size() / sizeof(float));
-    std::memcpy(out.data(), c.bytes.data(), c.bytes.size());
-    return out;
-}
+using test::floatSamples;
 
 // A pass's three channels as vectors ("ViewLayer.Normal" + X,Y,Z).
 std::vector<glm::dvec3> vectors(const ExrImage& image, const std::string& pass, const char* components = "RGB") {
-    const auto x = floats(image, pass + "." + components[0]), y = floats(image, pass + "." + components[1]),
-               z = floats(image, pass + "." + components[2]);
+    const auto x = floatSamples(image, pass + "." + components[0]), y = floatSamples(image, pass + "." + components[1]),
+               z = floatSamples(image, pass + "." + components[2]);
     std::vector<glm::dvec3> out(x.size());
     for (std::size_t i = 0; i < x.size(); ++i) out[i] = {x[i], y[i], z[i]};
     return out;
@@ -140,7 +136,7 @@ TEST(BeautyRelight, CyclesDirectLightNormalSwap) {
     const auto light = vectors(before, "ViewLayer.DiffDir"), relit_light = vectors(after, "ViewLayer.DiffDir");
     const auto albedo = vectors(before, "ViewLayer.DiffCol");
     const auto plain_light = vectors(unlit, "ViewLayer.DiffDir");
-    const std::vector<float> object = floats(before, "ViewLayer.IndexOB.X");
+    const std::vector<float> object = floatSamples(before, "ViewLayer.IndexOB.X");
     std::vector<std::size_t> dented, sphere;
     for (std::size_t i = 0; i < n0.size(); ++i)
         if (glm::length(n1[i] - n0[i]) > 0.02) dented.push_back(i);  // a real tilt (> ~1 degree)

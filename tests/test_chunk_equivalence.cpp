@@ -23,6 +23,7 @@
 #include "decalcomp/synth.hpp"
 #include "io/exr_layout.hpp"
 #include "support/batch_fixture.hpp"
+#include "support/exr_test_io.hpp"
 #include "support/random_scenes.hpp"
 #include "support/test_support.hpp"
 
@@ -37,19 +38,9 @@ const char* compressionName(Imf::Compression c) {
 }
 
 // Rewrites `image` (read whole) with `compression` in `layout`, every part, through the
-// whole-file writer (as test_chunk_rewrite converts its frames).
+// whole-file writer, as test_chunk_rewrite converts its frames.
 void convert(ExrImage image, Imf::Compression compression, Layout layout, const std::string& out) {
-    for (ExrPart& part : image.parts) {
-        part.header.compression() = compression;
-        if (layout == Layout::Tiled) {
-            part.header.setTileDescription(Imf::TileDescription(32, 32, Imf::ONE_LEVEL));
-            part.header.setType(Imf::TILEDIMAGE);
-        }
-        if (compression == Imf::DWAA_COMPRESSION || compression == Imf::DWAB_COMPRESSION)
-            part.header.insert("dwaCompressionLevel", Imf::FloatAttribute(45.0f));  // as oiiotool writes it
-    }
-    image.copy_unchanged_chunks = false;
-    writeExrAtomic(image, out);
+    test::writeWithCompression(std::move(image), compression, layout == Layout::Tiled, out);
 }
 
 // One frame to composite: a data/ sample, or a generated random scene (seed > 0).

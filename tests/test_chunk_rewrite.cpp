@@ -22,6 +22,7 @@
 #include "decalcomp/scene.hpp"
 #include "io/exr_layout.hpp"
 #include "support/batch_fixture.hpp"
+#include "support/exr_test_io.hpp"
 #include "support/test_support.hpp"
 
 namespace decalcomp {
@@ -70,17 +71,7 @@ ExrImage splitIntoParts(const ExrImage& single) {
 // Rewrites `image` (read whole) with `compression` in `layout` through the whole-file writer.
 void convert(ExrImage image, Imf::Compression compression, Layout layout, const std::string& out) {
     if (layout == Layout::MultiPart) image = splitIntoParts(image);
-    for (ExrPart& part : image.parts) {
-        part.header.compression() = compression;
-        if (layout == Layout::Tiled) {
-            part.header.setTileDescription(Imf::TileDescription(32, 32, Imf::ONE_LEVEL));
-            part.header.setType(Imf::TILEDIMAGE);
-        }
-        if (compression == Imf::DWAA_COMPRESSION || compression == Imf::DWAB_COMPRESSION)
-            part.header.insert("dwaCompressionLevel", Imf::FloatAttribute(45.0f));  // as oiiotool writes it
-    }
-    image.copy_unchanged_chunks = false;
-    writeExrAtomic(image, out);
+    test::writeWithCompression(std::move(image), compression, layout == Layout::Tiled, out);
 }
 
 // Reads every chunk's stored bytes through OpenEXR's core API: [part][chunk].
