@@ -190,6 +190,12 @@ void patchBox(const fs::path& path, const std::string& name, std::int32_t x0, st
     writeBytes(path, bytes);
 }
 
+// Replaces `path` with an input a fuzz target once failed on (tests/fuzz/regressions/<relative>).
+void replaceWithFuzzFinding(const fs::path& path, const std::string& relative) {
+    const fs::path finding = fs::path(DECALCOMP_DATA_DIR).parent_path() / "tests/fuzz/regressions" / relative;
+    fs::copy_file(finding, path, fs::copy_options::overwrite_existing);
+}
+
 void truncateTo(const fs::path& path, std::size_t size) {
     std::string bytes = test::readFileBytes(path);
     bytes.resize(std::min(size, bytes.size()));
@@ -837,6 +843,33 @@ std::vector<Case> cases() {
          {"cloud_volume.exr", "dataWindow||data window||too large"},
          [](const Env& e) {
              patchBox(e.at("textures/cloud_volume.exr"), "dataWindow", 0, 0, 99999, 99999);
+             writeText(
+                 e.at("scene_volume.json"),
+                 sceneWith(
+                     R"({"name": "cloud", "kind": "volume", "texture": "cloud", "translate": [-1.7, -0.5, 0.5], "scale": 2.2})",
+                     R"("textures": {"cloud": {"volume": "textures/cloud_volume.exr", "alpha": "straight"}})"));
+         },
+         {},
+         true});
+
+    // Fuzzing finds, replayed through the CLI (tests/fuzz/regressions): a header OpenEXR's two
+    // readers read differently (checks saw 16x16, the decoder allocated 19 GB), and an EXR
+    // texture whose header made OpenImageIO allocate gigabytes inside open().
+    add({"exr_header_the_two_openexr_readers_read_differently",
+         C + O,
+         3,
+         Expect::Error,
+         {"frame.exr", "header"},
+         [](const Env& e) { replaceWithFuzzFinding(e.at("frame.exr"), "exr/duplicated-data-window-16M-wide-dwaa.exr"); },
+         {},
+         true});
+    add({"exr_texture_header_that_allocates_on_open",
+         composite("{in}/scene_volume.json") + O,
+         3,
+         Expect::Error,
+         {"cloud_volume.exr"},
+         [](const Env& e) {
+             replaceWithFuzzFinding(e.at("textures/cloud_volume.exr"), "texture/exr-huge-window-allocates-in-open.exr");
              writeText(
                  e.at("scene_volume.json"),
                  sceneWith(
