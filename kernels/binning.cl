@@ -2,6 +2,7 @@
  * (count, then fill at offsets from a prefix sum), so lists keep decal order and never drop one. */
 #include "shared_types.h"
 #include "matrix.h"
+#include "pixel_filter.h"
 
 /* Relative and absolute slack on depth ranges, for float rounding in both sides of the test. */
 #define DC_DEPTH_SLACK_REL 1e-4f
@@ -66,8 +67,10 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
     DcDecalBounds b;
     b.pad0 = b.pad1 = 0;
     const float big = 1e9f; /* keeps pixel coordinates in int range */
-    const float x0 = floor(clamp(rect.x, -big, big)) - 1.0f, y0 = floor(clamp(rect.y, -big, big)) - 1.0f;
-    const float x1 = ceil(clamp(rect.z, -big, big)) + 1.0f, y1 = ceil(clamp(rect.w, -big, big)) + 1.0f;
+    /* pixel-filter taps reach filter_radius pixels (and half a stratum) from their pixel */
+    const float reach = 1.0f + ceil(frame->filter_radius + frame->filter_step);
+    const float x0 = floor(clamp(rect.x, -big, big)) - reach, y0 = floor(clamp(rect.y, -big, big)) - reach;
+    const float x1 = ceil(clamp(rect.z, -big, big)) + reach, y1 = ceil(clamp(rect.w, -big, big)) + reach;
     if (kept == 0 || x1 < 0.0f || y1 < 0.0f || x0 >= (float)frame->width || y0 >= (float)frame->height ||
         any(isnan(rect))) {
         b.tile_x0 = b.tile_y0 = 0;
@@ -79,8 +82,10 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
         b.tile_y0 = max(0, (int)y0 / DC_TILE_SIZE);
         b.tile_x1 = min(frame->tiles_x - 1, (int)x1 / DC_TILE_SIZE);
         b.tile_y1 = min(frame->tiles_y - 1, (int)y1 / DC_TILE_SIZE);
-        b.depth_min = depth.x - fabs(depth.x) * DC_DEPTH_SLACK_REL - DC_DEPTH_SLACK_ABS;
-        b.depth_max = depth.y + fabs(depth.y) * DC_DEPTH_SLACK_REL + DC_DEPTH_SLACK_ABS;
+        /* taps stray up to DC_FILTER_GRAZING in depth from their pixel (pixel_filter.h) */
+        const float rel = DC_DEPTH_SLACK_REL + (frame->filter_taps > 0 ? DC_FILTER_DEPTH_SLACK : 0.0f);
+        b.depth_min = depth.x - fabs(depth.x) * rel - DC_DEPTH_SLACK_ABS;
+        b.depth_max = depth.y + fabs(depth.y) * rel + DC_DEPTH_SLACK_ABS;
     }
     bounds[id] = b;
 }

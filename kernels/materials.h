@@ -13,6 +13,18 @@ typedef struct {
     int normal_changed;
 } DcSurface;
 
+/* acc + w * s, field by field: the pixel filter's weighted sum of its taps' materials. */
+inline DcSurface dc_surface_add_scaled(DcSurface acc, DcSurface s, float w) {
+    acc.albedo += s.albedo * w;
+    acc.normal += s.normal * w;
+    acc.emission += s.emission * w;
+    acc.roughness += s.roughness * w;
+    acc.metallic += s.metallic * w;
+    acc.ao += s.ao * w;
+    acc.normal_changed |= s.normal_changed;
+    return acc;
+}
+
 inline float3 dc_blend3(float3 a, float3 v, float f, float g, int op) {
     switch (op) {
         case DC_OP_MULTIPLY:

@@ -7,6 +7,7 @@
 #include "materials.h"
 #include "matrix.h"
 #include "occlusion.h"
+#include "pixel_filter.h"
 #include "reconstruct.h"
 #include "shared_types.h"
 #include "texture_sample.h"
@@ -21,6 +22,47 @@ inline float3 dc_camera_to_world_vector(__constant const DcFrame* f, float3 v) {
     const __constant float* m = f->world_to_camera;
     return normalize((float3)(m[0] * v.x + m[4] * v.y + m[8] * v.z, m[1] * v.x + m[5] * v.y + m[9] * v.z,
                               m[2] * v.x + m[6] * v.y + m[10] * v.z));
+}
+
+inline DcTaps dc_point_taps(void) {
+    DcTaps t;
+    t.mode = DC_TAPS_POINT;
+    return t;
+}
+
+/* Decal d integrated over the pixel filter's taps on `plane` (docs/pixel-filter.md): each tap
+ * blends the decal into s as it stands, and the result is their weighted mean, linear in the
+ * decal's coverage as the renderer's filter is. Sets *applied when some tap reached the decal. */
+DC_INLINE DcSurface dc_filter_decal(__constant const DcFrame* frame, __global const DcDecal* d, const DcTapRays* rays,
+                                    const DcTapPlane* plane, int has_normal, float weight,
+                                    __global const DcTexture* textures, __global const float4* texels,
+                                    __global const uint* occlusion_maps, DcSurface s, const int variant,
+                                    int* applied) {
+    const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
+    if (!dc_filter_may_reach(d, plane)) return s;
+    const float3 su = dc_camera_to_local_vector(d, plane->du) * frame->filter_step;
+    const float3 sv = dc_camera_to_local_vector(d, plane->dv) * frame->filter_step;
+    DcSurface acc = dc_surface_add_scaled(s, s, -1.0f);
+    int touched = 0;
+    for (int j = 0; j < frame->filter_taps; ++j)
+        for (int i = 0; i < frame->filter_taps; ++i) {
+            DcSurface out = s;
+            float3 pt;
+            const float w = frame->filter_weight[i] * frame->filter_weight[j];
+            if (dc_tap_point(rays, plane, frame->filter_offset[i], frame->filter_offset[j], &pt)) {
+                const DcLookup lk = dc_decal_lookup_at(d, pt, plane->n, has_normal, pt, pt, 1, 1, su, sv);
+                if (lk.fade > 0.0f &&
+                    (albedo_only || d->occlusion_map < 0 || dc_blast_reaches(d, occlusion_maps, pt, plane->n))) {
+                    out = dc_apply_decal(frame, d, lk, textures, texels, weight, plane->n, s, variant);
+                    touched = 1;
+                }
+            }
+            acc = dc_surface_add_scaled(acc, out, w);
+        }
+    if (!touched) return s;
+    if (acc.normal_changed && length(acc.normal) > 1e-6f) acc.normal = normalize(acc.normal);
+    *applied = 1;
+    return acc;
 }
 
 /* One pixel. `variant` (DC_VARIANT_x) is a literal in each kernel below, so the lean kernels carry
@@ -74,8 +116,19 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
         s.ao = in2.w;
         s.normal_changed = 0;
         int applied = 0;
+        const DcTaps taps = frame->filter_taps > 0 && has_normal
+                                ? dc_taps(frame, depth_plane, position_plane, x, y, p, normal)
+                                : dc_point_taps();
         for (int k = begin; k < end; ++k) {
             __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
+            if (taps.mode == DC_TAPS_PLANE) {
+                float weight = d->opacity;
+                if (d->mask >= 0)
+                    weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
+                s = dc_filter_decal(frame, d, &taps.rays, &taps.plane, has_normal, weight, textures, texels,
+                                    occlusion_maps, s, variant, &applied);
+                continue;
+            }
             const DcLookup lk = dc_decal_lookup(d, p, normal, has_normal, p_dx, p_dy, footprint);
             if (!(lk.fade > 0.0f)) continue;
             /* blast occlusion: a surface nearer the origin hides this one from the blast */

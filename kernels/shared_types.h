@@ -46,6 +46,9 @@ namespace decalcomp::cl_types {
 #define DC_FILTER_LINEAR 1
 #define DC_FILTER_MIP 2 /* trilinear over a mip chain, level from the pixel's footprint */
 
+/* The renderer's pixel filter (pixel_filter.hpp): at most this many quadrature taps per axis. */
+#define DC_MAX_FILTER_TAPS 8
+
 /* Material attributes a decal writes, in this order in DcDecal's per-target arrays. */
 #define DC_TARGET_ALBEDO 0
 #define DC_TARGET_NORMAL 1
@@ -107,6 +110,14 @@ typedef struct {
     DC_INT relight;         /* 1: direct light scaled by the Lambert ratio of new and old normal */
     DC_INT pad0, pad1, pad2;
     DC_FLOAT light_fit[4]; /* direct light ~ max(0, [3] + dot([0..2], world normal)) */
+    /* Decals integrated over the renderer's pixel filter (docs/pixel-filter.md): filter_taps per
+     * axis (0: point-sampled at the pixel centre), at filter_offset pixels from the centre with
+     * separable weights filter_weight, each prefiltering a stratum filter_step pixels wide. */
+    DC_INT filter_taps;
+    DC_FLOAT filter_step, filter_radius;
+    DC_INT pad3;
+    DC_FLOAT filter_offset[DC_MAX_FILTER_TAPS];
+    DC_FLOAT filter_weight[DC_MAX_FILTER_TAPS];
 } DcFrame;
 
 /* One decal, prepared on the host in double precision. */
@@ -142,6 +153,9 @@ typedef struct {
     DC_INT occlusion_map;
     DC_INT occlusion_width, occlusion_height;
     DC_FLOAT occlusion_bias; /* slope-scaled bias in texels */
+    /* lengths of camera_to_local's rows: how far a camera-space distance moves each local axis */
+    DC_FLOAT local_scale[3];
+    DC_INT pad0;
 } DcDecal;
 
 /* Where a texture's texels (float4, premultiplied linear RGBA, top row first) start. */

@@ -37,6 +37,30 @@ inline float4 dc_sample_slice(__global const float4* texels, DcTexture t, float 
 #undef DC_SLICE_TAP
 }
 
+/* Nearest texels integrated exactly over a box `rho` texels wide per axis (rho <= 2, so the box
+ * spans at most three texels per axis) centred on (s, tc): a tap's stratum. */
+inline float dc_box_share(float lo, float hi, float texel) { /* of [lo, hi] inside [texel, texel + 1] */
+    return fmax(0.0f, fmin(hi, texel + 1.0f) - fmax(lo, texel));
+}
+
+inline float4 dc_sample_slice_box(__global const float4* texels, DcTexture t, float s, float tc, int slice, float2 rho) {
+    const float2 c = (float2)(clamp(s * (float)t.width, -1.0f, (float)t.width + 1.0f),
+                              clamp(tc * (float)t.height, -1.0f, (float)t.height + 1.0f));
+    const float2 r = fmax(rho, (float2)(1e-6f));
+    const float2 lo = c - 0.5f * r, hi = c + 0.5f * r;
+    const float2 first = floor(lo);
+    float4 sum = (float4)(0.0f);
+    for (int j = 0; j < 3; ++j) {
+        const float wy = dc_box_share(lo.y, hi.y, first.y + (float)j) / r.y;
+        if (!(wy > 0.0f)) continue;
+        for (int i = 0; i < 3; ++i) {
+            const float wx = dc_box_share(lo.x, hi.x, first.x + (float)i) / r.x;
+            if (wx > 0.0f) sum += dc_texel(texels, t, (int)first.x + i, (int)first.y + j, slice) * (wx * wy);
+        }
+    }
+    return sum;
+}
+
 inline float4 dc_sample_2d(__global const float4* texels, DcTexture t, float s, float tc, int filter) {
     return dc_sample_slice(texels, t, s, tc, 0, filter);
 }

@@ -29,6 +29,7 @@ struct BatchRequest {
     std::string device;  // OpenCL devices: a selector, several separated by ',', or "all" (selectDevices)
     MappingOptions mapping;
     BeautyOptions beauty;  // --beauty, --relight (FrameOptions::beauty)
+    std::optional<PixelFilter> pixel_filter;  // --pixel-filter (FrameOptions::pixel_filter)
     bool overwrite_input = false;
     bool resume = false;      // skip frames whose output exists (complete: writes are atomic)
     bool keep_going = false;  // a failed frame does not stop the batch
@@ -97,6 +98,7 @@ struct BatchReport {
     std::optional<int> stopped_at;      // the failed frame that stopped the batch (without keep_going)
     std::vector<std::string> warnings;  // distinct warnings, each as "frames 1-40: ..." (missing channels, masks)
     std::vector<std::string> beauty;    // "frames 1-40: rebuilt ViewLayer.Combined from ..." (FrameReport::beauty)
+    std::vector<std::string> pixel_filter;  // "frames 1-40: blackman-harris:3 (profile blender)"
 };
 
 // Called on the thread that called runBatch, in frame (plan) order.

@@ -17,6 +17,7 @@
 #include "decalcomp/exr_file.hpp"
 #include "decalcomp/frame_beauty.hpp"
 #include "decalcomp/normal_check.hpp"
+#include "decalcomp/pixel_filter.hpp"
 #include "decalcomp/sequence_conventions.hpp"
 
 namespace decalcomp {
@@ -41,6 +42,7 @@ struct FrameOptions {
     MappingOptions mapping;
     CompositeOptions compositing;
     BeautyOptions beauty;  // --beauty, --relight
+    std::optional<PixelFilter> pixel_filter;  // --pixel-filter; nullopt: chosen per frame (frame_pixel_filter.hpp)
     std::optional<double> frame_number;  // picks animated decals' state; nullopt: the scene as written
     std::string label;  // names the frame in warnings (a batch gives its pattern); default: the first input
 };
@@ -54,6 +56,7 @@ struct FrameReport {
     ChannelMapping mapping;
     CompositeStats stats;
     BeautyReport beauty;  // whether the beauty was rebuilt, from which passes
+    std::string pixel_filter;  // the filter decals were integrated over, and why: "blackman-harris:3 (profile blender)"
     std::size_t changed_samples = 0;    // channel samples the decals changed (0: a warning)
     // What writeBack() did with the outputs' chunks: copied compressed from the input, or
     // decoded, composited and encoded again (docs/cli.md, "Chunks").

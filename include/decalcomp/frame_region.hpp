@@ -9,11 +9,13 @@
 #include "decalcomp/camera.hpp"
 #include "decalcomp/decal.hpp"
 #include "decalcomp/exr_file.hpp"
+#include "decalcomp/pixel_filter.hpp"
 
 namespace decalcomp {
 
-// Extra pixels around each projected volume, against rounding at the edges.
-constexpr int kFootprintMargin = 2;
+// Extra pixels around each projected volume, against rounding at the edges, and for the pixels
+// a pixel filter's taps reach from beyond it.
+constexpr int kFootprintMargin = 2 + kMaxFilterReach;
 
 // Absolute EXR pixel boxes (display window `display`) holding every pixel whose centre the
 // decals' volumes can cover; everything when a volume reaches behind the camera's plane (its

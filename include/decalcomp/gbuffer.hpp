@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "decalcomp/pixel_filter.hpp"
+
 namespace decalcomp {
 
 enum class Attribute {
@@ -46,6 +48,7 @@ struct GBuffer {
     DepthConvention depth_convention = DepthConvention::Planar;
     bool reversed_z = false;                    // only for DepthConvention::Ndc
     NormalEncoding normal_encoding;             // of the Normal plane, as in the file
+    PixelFilter pixel_filter;                   // the renderer's: decals are integrated over it
     std::map<Attribute, Plane> planes;
     // One single-component weight plane per DecalScene::masks entry, evaluated for this frame.
     std::vector<Plane> mask_weights;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "decalcomp/beauty.hpp"
+#include "decalcomp/pixel_filter.hpp"
 #include "decalcomp/gbuffer.hpp"
 
 namespace decalcomp {
@@ -38,6 +39,7 @@ struct ChannelProfile {
     std::string normal_space = "world";     // world | camera
     std::string normal_encoding = "signed"; // signed ([-1,1]) | unsigned (n * 0.5 + 0.5)
     BeautyModel beauty;                     // its light passes ("beauty"; none declared: not rebuilt)
+    PixelFilter pixel_filter;               // the renderer's default pixel filter ("pixel_filter")
 };
 
 // Score an attribute adds to a profile when all of its channels are found (docs/profiles.md).

@@ -270,6 +270,7 @@ public:
     std::optional<FrameResult> run(BatchReport& report, BatchObserver& watch);
     std::vector<std::string> warnings() { return warnings_.list(); }
     std::vector<std::string> beautyNotes() { return beauty_notes_.list(); }
+    std::vector<std::string> pixelFilterNotes() { return filter_notes_.list(); }
     BatchTimings timings() const;
     const ChunkWriteStats& chunks() const { return chunks_; }  // after run()
 
@@ -284,6 +285,7 @@ private:
     SequenceConventions sequence_;  // depth and normal readings settled once for the sequence
     WarningSet warnings_;
     WarningSet beauty_notes_;  // what the beauty step did, said once per distinct summary
+    WarningSet filter_notes_;  // the pixel filter each frame was integrated over, likewise
     std::vector<BatchTimings> timings_;  // reader, writer, then one per worker; summed at the end
     ChunkWriteStats chunks_;             // the writer thread's
     std::vector<std::thread> threads_;
@@ -372,6 +374,7 @@ void Pipeline::compositeFrame(Job& job, Compositor* compositor, BatchTimings& ti
         }
         warnings_.add(job.frame, job.work->report().warnings);  // prepare's and composite's
         if (job.work->report().beauty.rebuilt) beauty_notes_.add(job.frame, {job.work->report().beauty.summary});
+        if (!job.work->report().pixel_filter.empty()) filter_notes_.add(job.frame, {job.work->report().pixel_filter});
     } catch (...) {
         job.work.reset();
         job.finished = failure(job.frame, job.output, std::current_exception());
@@ -531,6 +534,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     FrameOptions options;
     options.mapping = request.mapping;
     options.beauty = request.beauty;
+    options.pixel_filter = request.pixel_filter;
     options.compositing.binned = request.binned;
     options.label = request.input;  // warnings name the sequence, so each is reported once
 
@@ -541,6 +545,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     if (stopped_by) report.stopped_at = stopped_by->frame;
     report.warnings = pipeline.warnings();
     report.beauty = pipeline.beautyNotes();
+    report.pixel_filter = pipeline.pixelFilterNotes();
     report.timings = pipeline.timings();
     report.chunks = pipeline.chunks();
     watch.finished(report);

@@ -21,7 +21,7 @@ namespace decalcomp::cl_types {
 
 DC_CHECK(sizeof(DC_INT) == 4 && sizeof(DC_FLOAT) == 4);
 
-DC_CHECK(sizeof(DcFrame) == 320);
+DC_CHECK(sizeof(DcFrame) == 400);
 DC_CHECK(DC_OFFSET(DcFrame, inv_projection) == 0);
 DC_CHECK(DC_OFFSET(DcFrame, projection) == 64);
 DC_CHECK(DC_OFFSET(DcFrame, world_to_camera) == 128);
@@ -52,8 +52,14 @@ DC_CHECK(DC_OFFSET(DcFrame, beauty_emission) == 284);
 DC_CHECK(DC_OFFSET(DcFrame, relight) == 288);
 DC_CHECK(DC_OFFSET(DcFrame, pad0) == 292);
 DC_CHECK(DC_OFFSET(DcFrame, light_fit) == 304);
+DC_CHECK(DC_OFFSET(DcFrame, filter_taps) == 320);
+DC_CHECK(DC_OFFSET(DcFrame, filter_step) == 324);
+DC_CHECK(DC_OFFSET(DcFrame, filter_radius) == 328);
+DC_CHECK(DC_OFFSET(DcFrame, pad3) == 332);
+DC_CHECK(DC_OFFSET(DcFrame, filter_offset) == 336);
+DC_CHECK(DC_OFFSET(DcFrame, filter_weight) == 368);
 
-DC_CHECK(sizeof(DcDecal) == 288);
+DC_CHECK(sizeof(DcDecal) == 304);
 DC_CHECK(DC_OFFSET(DcDecal, camera_to_local) == 0);
 DC_CHECK(DC_OFFSET(DcDecal, local_to_camera) == 48);
 DC_CHECK(DC_OFFSET(DcDecal, kind) == 96);
@@ -86,6 +92,8 @@ DC_CHECK(DC_OFFSET(DcDecal, occlusion_map) == 272);
 DC_CHECK(DC_OFFSET(DcDecal, occlusion_width) == 276);
 DC_CHECK(DC_OFFSET(DcDecal, occlusion_height) == 280);
 DC_CHECK(DC_OFFSET(DcDecal, occlusion_bias) == 284);
+DC_CHECK(DC_OFFSET(DcDecal, local_scale) == 288);
+DC_CHECK(DC_OFFSET(DcDecal, pad0) == 300);
 
 DC_CHECK(sizeof(DcTexture) == 32);
 DC_CHECK(DC_OFFSET(DcTexture, offset) == 0);
@@ -128,6 +136,8 @@ DC_CHECK(int(DecalKind::Cube) == DC_KIND_CUBE);
 DC_CHECK(int(TextureFilter::Nearest) == DC_FILTER_NEAREST);
 DC_CHECK(int(TextureFilter::Linear) == DC_FILTER_LINEAR);
 DC_CHECK(int(TextureFilter::Mip) == DC_FILTER_MIP);
+
+DC_CHECK(kMaxFilterTaps == DC_MAX_FILTER_TAPS);
 
 DC_CHECK(int(DecalTarget::Albedo) == DC_TARGET_ALBEDO);
 DC_CHECK(int(DecalTarget::Normal) == DC_TARGET_NORMAL);

@@ -212,11 +212,11 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     const OcclusionLayout occlusion = layoutOcclusionMaps(s.scene.decals, s.decal_params);
     s.frame_params = makeFrameParams(frame, camera, int(s.decal_params.size()));
     cl_types::DcFrame& params = s.frame_params;
-    // Normals are read for angle fades, mip footprints, occlusion slopes and normal maps: skip
-    // their upload otherwise.
+    // Normals are read for angle fades, mip footprints, occlusion slopes, normal maps and the
+    // pixel filter's tangent planes: skip their upload otherwise.
     const bool needs_footprint = std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
                                              [](const Decal& d) { return d.filter == TextureFilter::Mip; });
-    const bool needs_normals = needs_footprint || !occlusion.occluders.empty() ||
+    const bool needs_normals = needs_footprint || frame.pixel_filter.enabled() || !occlusion.occluders.empty() ||
                                std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
                                            [](const Decal& d) { return d.angle_fade_deg[1] > 0.0; });
     const SurfaceLayout surface = surfaceLayout(frame, s.targets, needs_normals);

@@ -109,6 +109,14 @@ cl_types::DcFrame makeFrameParams(const GBuffer& frame, const Camera& camera, in
     f.decal_count = decal_count;
     f.has_depth = frame.has(Attribute::Depth) ? 1 : 0;
     f.has_normal = frame.has(Attribute::Normal) ? 1 : 0;
+    const FilterQuadrature quadrature = filterQuadrature(frame.pixel_filter);
+    f.filter_taps = int(quadrature.offsets.size());
+    f.filter_step = float(quadrature.step);
+    f.filter_radius = float(frame.pixel_filter.radius());
+    for (std::size_t i = 0; i < quadrature.offsets.size(); ++i) {
+        f.filter_offset[i] = float(quadrature.offsets[i]);
+        f.filter_weight[i] = float(quadrature.weights[i]);
+    }
     return f;
 }
 
@@ -121,6 +129,9 @@ std::vector<cl_types::DcDecal> makeDecalParams(const DecalScene& scene, const Ca
         cl_types::DcDecal d{};
         storeRowMajor(glm::inverse(decal.world_matrix) * camera_to_world, d.camera_to_local, 3);
         storeRowMajor(camera.world_to_camera * decal.world_matrix, d.local_to_camera, 3);
+        const glm::dmat4 camera_to_local = glm::inverse(decal.world_matrix) * camera_to_world;
+        for (int r = 0; r < 3; ++r)
+            d.local_scale[r] = float(glm::length(glm::dvec3(camera_to_local[0][r], camera_to_local[1][r], camera_to_local[2][r])));
         d.kind = kindCode(decal.kind);
         d.filter = decal.filter == TextureFilter::Nearest ? DC_FILTER_NEAREST
                    : decal.filter == TextureFilter::Linear ? DC_FILTER_LINEAR

@@ -120,7 +120,7 @@ std::vector<std::string> attributeNames() {
 
 ChannelProfile parseProfileJson(const JsonField& doc) {
     doc.requireObject("a profile object");
-    doc.checkKeys(withComment({"name", "description", "detect", "depth_convention", "normal", "attributes", "beauty"}));
+    doc.checkKeys(withComment({"name", "description", "detect", "depth_convention", "normal", "attributes", "beauty", "pixel_filter"}));
     ChannelProfile profile;
     profile.source = doc.file();
     const JsonField name = doc.required("name");
@@ -159,6 +159,13 @@ ChannelProfile parseProfileJson(const JsonField& doc) {
     }
     if (profile.attributes.empty()) attributes.fail("expected at least one attribute");
     if (const auto beauty = doc.optional("beauty")) profile.beauty = parseBeautyModel(*beauty);
+    if (const auto filter = doc.optional("pixel_filter")) {
+        try {
+            profile.pixel_filter = parsePixelFilter(filter->string(), "");
+        } catch (const Error& e) {
+            filter->fail(e.what());
+        }
+    }
     return profile;
 }
 

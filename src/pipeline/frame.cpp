@@ -9,6 +9,7 @@
 #include "decalcomp/header_camera.hpp"
 #include "decalcomp/masks.hpp"
 #include "decalcomp/pipeline.hpp"
+#include "pipeline/frame_pixel_filter.hpp"
 
 namespace decalcomp {
 
@@ -137,6 +138,10 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
         report_.depth_check = settleDepthConvention(gbuffer_, mapping, camera_);
         report_.normal_check = settleNormalEncoding(gbuffer_, mapping, camera_);
     }
+    const PixelFilterChoice filter =
+        choosePixelFilter(files_, mapping.profile, options_.mapping.profile_files, gbuffer_, options_.pixel_filter);
+    gbuffer_.pixel_filter = filter.filter;
+    report_.pixel_filter = fmt::format("{} ({})", filter.filter.spelling(), filter.source);
     for (std::string& warning : depthWarnings(gbuffer_, camera_, depthChannelName(files_, mapping), label()))
         report_.warnings.push_back(std::move(warning));
     // Decal masks for this frame; their warnings name the first input by the label, as above.

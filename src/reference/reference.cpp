@@ -196,6 +196,22 @@ glm::dvec4 sampleSlice(const Texture2D& texture, double s, double t, long slice,
     return bilinear(x, y, [&](long i, long j) { return texelAt(texture, i, j, slice); });
 }
 
+// Nearest texels integrated exactly over a box `rho` texels wide per axis centred on (s, t).
+glm::dvec4 boxIntegratedNearest(const Texture2D& texture, double s, double t, glm::dvec2 rho) {
+    const glm::dvec2 c(std::clamp(s * texture.width, -1.0, double(texture.width) + 1.0),
+                       std::clamp(t * texture.height, -1.0, double(texture.height) + 1.0));
+    const glm::dvec2 r = glm::max(rho, glm::dvec2(1e-6));
+    const glm::dvec2 lo = c - 0.5 * r, hi = c + 0.5 * r;
+    glm::dvec4 sum(0.0);
+    for (long j = long(std::floor(lo.y)); double(j) < hi.y; ++j)
+        for (long i = long(std::floor(lo.x)); double(i) < hi.x; ++i) {
+            const double wx = std::max(0.0, std::min(hi.x, i + 1.0) - std::max(lo.x, double(i))) / r.x;
+            const double wy = std::max(0.0, std::min(hi.y, j + 1.0) - std::max(lo.y, double(j))) / r.y;
+            sum += texelAt(texture, i, j, 0) * (wx * wy);
+        }
+    return sum;
+}
+
 // Each cube face as the direction of its centre and the directions in which s and t grow
 // (the OpenGL cube-map rule: +X s = -z t = -y; -X s = z t = -y; +Y s = x t = z; -Y s = x t = -z;
 // +Z s = x t = -y; -Z s = -x t = -y).
@@ -311,20 +327,42 @@ struct DecalHit {
     bool ambiguous = false;
     glm::dvec3 local{0.0}, local_dx{0.0}, local_dy{0.0};  // the point and its footprint in decal space
     bool footprint = false;
+    bool filtered = false;  // a pixel-filter tap: local_dx/dy span its stratum
     CubeLookup cube;
     double direction_slack = 0.0;    // cube: rounding of the direction
     glm::dvec3 facing{0.0};          // world direction a receiving surface faces
     glm::dvec3 right{0.0}, up{0.0};  // world directions of growing s and falling t
 };
 
+// A pixel-filter tap's stratum in decal space: the local vectors it spans.
+struct Stratum {
+    glm::dvec3 su{0.0}, sv{0.0};
+};
+
+// How much of a stratum spanning `extent` lies where `inside` >= 0 (a straight edge across a box).
+// A ramp much steeper than rounding (`slack` in the same measure) can flip like a step: then
+// `ambiguous` is set near the edge.
+double stratumCoverage(double inside, double extent, double slack, bool& ambiguous) {
+    if (std::abs(inside) <= 0.5 * extent + slack && slack > 0.05 * extent) ambiguous = true;
+    if (!(extent > 1e-12)) return inside >= 0.0 ? 1.0 : 0.0;
+    return std::clamp(inside / extent + 0.5, 0.0, 1.0);
+}
+
 DecalHit hitDecal(const Decal& decal, const glm::dmat4& world_to_local, const glm::dvec3& P,
-                  const std::optional<glm::dvec3>& normal, const Footprint& footprint, double slack) {
+                  const std::optional<glm::dvec3>& normal, const Footprint& footprint, double slack,
+                  const Stratum* stratum = nullptr) {
     DecalHit out;
     const glm::dvec3 l(world_to_local * glm::dvec4(P, 1.0));
     out.local = l;
     out.footprint = footprint.valid;
     out.local_dx = glm::dvec3(world_to_local * glm::dvec4(footprint.dx, 1.0));
     out.local_dy = glm::dvec3(world_to_local * glm::dvec4(footprint.dy, 1.0));
+    if (stratum) {
+        out.filtered = out.footprint = true;
+        out.local_dx = l + stratum->su;
+        out.local_dy = l + stratum->sv;
+    }
+    const glm::dvec3 extent = stratum ? glm::abs(stratum->su) + glm::abs(stratum->sv) : glm::dvec3(0.0);
     const glm::dmat3 axes(decal.world_matrix);
     out.right = axes[0];
     out.up = axes[1];
@@ -332,9 +370,17 @@ DecalHit hitDecal(const Decal& decal, const glm::dmat4& world_to_local, const gl
     switch (decal.kind) {
         case DecalKind::Box:
         case DecalKind::Volume: {
-            const double extent = std::max({std::abs(l.x), std::abs(l.y), std::abs(l.z)});
-            out.ambiguous = std::abs(extent - 0.5) <= slack;
-            if (extent > 0.5) return out;
+            if (stratum) {
+                bool& a = out.ambiguous;
+                fade = stratumCoverage(0.5 - std::abs(l.x), extent.x, slack, a) *
+                       stratumCoverage(0.5 - std::abs(l.y), extent.y, slack, a) *
+                       stratumCoverage(0.5 - std::abs(l.z), extent.z, slack, a);
+                if (!(fade > 0.0)) return out;
+            } else {
+                const double reach = std::max({std::abs(l.x), std::abs(l.y), std::abs(l.z)});
+                out.ambiguous = std::abs(reach - 0.5) <= slack;
+                if (reach > 0.5) return out;
+            }
             if (decal.axis_fade > 0.0) fade *= std::clamp((0.5 - std::abs(l.z)) / (0.5 * decal.axis_fade), 0.0, 1.0);
             out.facing = glm::normalize(glm::dvec3(decal.world_matrix[2]));
             break;
@@ -342,10 +388,22 @@ DecalHit hitDecal(const Decal& decal, const glm::dmat4& world_to_local, const gl
         case DecalKind::Frustum: {
             const double dist = -l.z;
             const double half_h = dist * std::tan(glm::radians(decal.fov_y_deg) / 2.0), half_w = half_h * decal.aspect;
-            const double edge_slack = 2.0 * slack;  // both sides of each comparison carry rounding
-            out.ambiguous = std::abs(dist - decal.near) <= edge_slack || std::abs(dist - decal.far) <= edge_slack ||
-                            std::abs(std::abs(l.x) - half_w) <= edge_slack || std::abs(std::abs(l.y) - half_h) <= edge_slack;
-            if (!(dist >= decal.near && dist <= decal.far && std::abs(l.x) <= half_w && std::abs(l.y) <= half_h)) return out;
+            if (stratum) {
+                bool& a = out.ambiguous;
+                const double edge_slack = 2.0 * slack;  // both sides of each comparison carry rounding
+                fade = stratumCoverage(dist - decal.near, extent.z, edge_slack, a) *
+                       stratumCoverage(decal.far - dist, extent.z, edge_slack, a) *
+                       stratumCoverage(half_w - std::abs(l.x), extent.x, edge_slack, a) *
+                       stratumCoverage(half_h - std::abs(l.y), extent.y, edge_slack, a);
+                if (!(fade > 0.0 && dist > 0.0)) return out;
+            } else {
+                const double edge_slack = 2.0 * slack;  // both sides of each comparison carry rounding
+                out.ambiguous = std::abs(dist - decal.near) <= edge_slack || std::abs(dist - decal.far) <= edge_slack ||
+                                std::abs(std::abs(l.x) - half_w) <= edge_slack ||
+                                std::abs(std::abs(l.y) - half_h) <= edge_slack;
+                if (!(dist >= decal.near && dist <= decal.far && std::abs(l.x) <= half_w && std::abs(l.y) <= half_h))
+                    return out;
+            }
             if (decal.distance_fade[1] > 0.0) fade *= rampDown(dist, decal.distance_fade[0], decal.distance_fade[1]);
             out.facing = glm::normalize(glm::dvec3(decal.world_matrix[3]) - P);
             break;
@@ -391,11 +449,21 @@ glm::dvec4 hitTexel(const DecalHit& hit, const Decal& decal, const Texture2D& t,
         return decal.filter == TextureFilter::Nearest && std::abs(x - std::round(x)) <= within * size;
     };
     const glm::dvec3& l = hit.local;
+    // A filter tap integrates its stratum: nearest texels box-integrated over strata up to two
+    // texels wide, the mip chain at the stratum's size otherwise.
+    const TextureFilter filter = hit.filtered ? TextureFilter::Mip : decal.filter;
     // A 2D lookup through `st_of` (local point -> s, t); mip level from the footprint's mapping.
     auto lookup2d = [&](auto st_of) {
         const glm::dvec2 st = st_of(l);
-        ambiguous |= nearEdge(st.x, t.width, slack) || nearEdge(st.y, t.height, slack);
-        if (decal.filter != TextureFilter::Mip) return sampleTexture(t, st.x, st.y, decal.filter);
+        if (hit.filtered && decal.filter == TextureFilter::Nearest) {
+            const glm::dvec2 size(t.width, t.height);
+            const glm::dvec2 rho = (glm::abs(st_of(hit.local_dx) - st) + glm::abs(st_of(hit.local_dy) - st)) * size;
+            // the switch to the mip chain is a step: within rounding of it, either side is right
+            if (std::abs(std::max(rho.x, rho.y) - 2.0) <= 1e-4) ambiguous = true;
+            if (rho.x <= 2.0 && rho.y <= 2.0) return boxIntegratedNearest(t, st.x, st.y, rho);
+        }
+        if (!hit.filtered) ambiguous |= nearEdge(st.x, t.width, slack) || nearEdge(st.y, t.height, slack);
+        if (filter != TextureFilter::Mip) return sampleTexture(t, st.x, st.y, filter);
         const double lod = hit.footprint ? levelOfDetail(st, st_of(hit.local_dx), st_of(hit.local_dy), t) : 1e9;
         return sampleMip(chain, lod, [&](const Texture2D& level) {
             return sampleTexture(level, st.x, st.y, TextureFilter::Linear);
@@ -406,8 +474,9 @@ glm::dvec4 hitTexel(const DecalHit& hit, const Decal& decal, const Texture2D& t,
         case DecalKind::Volume: {
             auto str = [](const glm::dvec3& v) { return glm::dvec3(v.x + 0.5, 0.5 - v.y, v.z + 0.5); };
             const glm::dvec3 c = str(l);
-            ambiguous |= nearEdge(c.x, t.width, slack) || nearEdge(c.y, t.height, slack) || nearEdge(c.z, t.depth, slack);
-            if (decal.filter != TextureFilter::Mip) return sampleVolume(t, c.x, c.y, c.z, decal.filter);
+            if (!hit.filtered)
+                ambiguous |= nearEdge(c.x, t.width, slack) || nearEdge(c.y, t.height, slack) || nearEdge(c.z, t.depth, slack);
+            if (filter != TextureFilter::Mip) return sampleVolume(t, c.x, c.y, c.z, filter);
             // level from the footprint in level-0 voxels; trilinear in the two levels around it
             const glm::dvec3 size(t.width, t.height, t.depth);
             const double rho = std::max(glm::length((str(hit.local_dx) - c) * size), glm::length((str(hit.local_dy) - c) * size));
@@ -425,8 +494,9 @@ glm::dvec4 hitTexel(const DecalHit& hit, const Decal& decal, const Texture2D& t,
         }
         case DecalKind::Cube: {
             const CubeLookup& c = hit.cube;
-            ambiguous |= nearEdge(c.s, t.width, hit.direction_slack) || nearEdge(c.t, t.height, hit.direction_slack);
-            if (decal.filter != TextureFilter::Mip) return sampleCube(t, l / glm::length(l), decal.filter);
+            if (!hit.filtered)
+                ambiguous |= nearEdge(c.s, t.width, hit.direction_slack) || nearEdge(c.t, t.height, hit.direction_slack);
+            if (filter != TextureFilter::Mip) return sampleCube(t, l / glm::length(l), filter);
             // the footprint's directions measured on this pixel's face, even past its edge
             auto on_face = [&](const glm::dvec3& v) {
                 const double ma[6] = {v.x, -v.x, v.y, -v.y, v.z, -v.z};
@@ -473,6 +543,59 @@ Footprint pixelFootprint(const GBuffer& f, const Camera& camera, const glm::dmat
 
 namespace {
 
+// Where the ray through fractional pixel position (px, py) meets the plane through P with normal
+// n (world space); nullopt when it runs parallel or meets it behind the camera.
+std::optional<glm::dvec3> rayOnPlane(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection,
+                                     double px, double py, const glm::dvec3& P, const glm::dvec3& n) {
+    const glm::dvec2 ndc(2.0 * (px + f.origin_x + 0.5) / f.display_width - 1.0,
+                         1.0 - 2.0 * (py + f.origin_y + 0.5) / f.display_height);
+    const glm::dmat4 camera_to_world = glm::inverse(camera.world_to_camera);
+    const glm::dvec3 far_cam = unproject(inverse_projection, ndc, 0.0);
+    const glm::dvec3 origin_cam = camera.isOrthographic() ? unproject(inverse_projection, ndc, -1.0) : glm::dvec3(0.0);
+    const glm::dvec3 origin(camera_to_world * glm::dvec4(origin_cam, 1.0));
+    const glm::dvec3 dir(camera_to_world * glm::dvec4(far_cam - origin_cam, 0.0));
+    const double denom = glm::dot(dir, n);
+    if (!(std::abs(denom) > 1e-6 * glm::length(dir))) return std::nullopt;
+    const double t = glm::dot(P - origin, n) / denom;
+    if (!(t > 0.0)) return std::nullopt;
+    return origin + dir * t;
+}
+
+// The pixel filter's footprint on pixel (x, y)'s tangent plane (docs/pixel-filter.md), or
+// invalid where the filter is not integrated: beside background (a 4-neighbour without a point)
+// and where a footprint corner strays more than 4 % in view depth (grazing). Those pixels are
+// point-sampled; silhouettes and creases integrate over their own (averaged) plane.
+struct TapPlane {
+    bool valid = false;
+    bool ambiguous = false;  // the grazing test within rounding of its threshold
+    glm::dvec3 du{0.0}, dv{0.0};  // world step per pixel offset at the centre
+};
+
+TapPlane tapPlane(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection, int x, int y,
+                  const glm::dvec3& P, const glm::dvec3& n) {
+    TapPlane tp;
+    for (int k = 0; k < 4; ++k) {
+        const int nx = x + (k == 0) - (k == 1), ny = y + (k == 2) - (k == 3);
+        if (nx >= 0 && ny >= 0 && nx < f.width && ny < f.height && !pixelWorldPoint(f, camera, nx, ny)) return tp;
+    }
+    const auto a = rayOnPlane(f, camera, inverse_projection, x + 1.0, y, P, n);
+    const auto b = rayOnPlane(f, camera, inverse_projection, x, y + 1.0, P, n);
+    if (!a || !b) return tp;
+    tp.du = *a - P;
+    tp.dv = *b - P;
+    auto viewDepth = [&](const glm::dvec3& w) { return -(camera.world_to_camera * glm::dvec4(w, 1.0)).z; };
+    const double z = viewDepth(P), r = f.pixel_filter.radius();
+    for (int k = 0; k < 4; ++k) {
+        const auto c = rayOnPlane(f, camera, inverse_projection, x + ((k & 1) ? r : -r), y + ((k & 2) ? r : -r), P, n);
+        if (!c) return tp;
+        const double stray = std::abs(viewDepth(*c) - z), limit = 0.04 * z;
+        if (std::abs(stray - limit) <= 1e-3 * limit) tp.ambiguous = true;
+        if (stray > limit) return tp;
+    }
+    tp.valid = true;
+    return tp;
+}
+
 // The material planes a decal may change, as reference::shade works on them.
 constexpr Attribute kTargetAttributes[kDecalTargets] = {Attribute::Albedo,   Attribute::Normal,
                                                         Attribute::Roughness, Attribute::Metallic,
@@ -512,7 +635,8 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
     const bool has_normal = frame.has(Attribute::Normal);
     const bool angle_fades = std::any_of(scene.decals.begin(), scene.decals.end(), [](const Decal& d) {
         return d.angle_fade_deg[1] > 0.0 || d.filter == TextureFilter::Mip || d.occlusion.enabled;  // need normals
-    });
+    }) || frame.pixel_filter.enabled();
+    const FilterQuadrature quadrature = filterQuadrature(frame.pixel_filter);
     std::vector<std::vector<Texture2D>> chains;
     for (const Texture2D& t : scene.textures) chains.push_back(mipChain(t));
     const glm::dmat4 inverse_projection = glm::inverse(camera.projection);
@@ -543,9 +667,81 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
             if (normal) footprint = pixelFootprint(frame, camera, inverse_projection, x, y, *p, *normal);
             Surface surface = surfaceAt(result.planes, i);
             if (normal) surface.normal = *normal;
+            TapPlane taps;
+            if (frame.pixel_filter.enabled() && normal) {
+                taps = tapPlane(frame, camera, inverse_projection, x, y, *p, *normal);
+                if (taps.ambiguous) result.ambiguous[i] = 1;
+            }
             for (std::size_t k = 0; k < scene.decals.size(); ++k) {
                 const Decal& decal = scene.decals[k];
                 const double slack = slackAt(k, *p);
+                double weight = decal.opacity;
+                if (decal.mask >= 0) weight *= frame.mask_weights[std::size_t(decal.mask)].at(i, 0);
+                auto has = [&](DecalTarget t) { return frame.has(kTargetAttributes[int(t)]); };
+                // The decal's textures at a hit (`ambiguous` notes nearest lookups at texel edges).
+                auto valuesAt = [&](const DecalHit& hit, bool& ambiguous) {
+                    auto texel = [&](int texture) {
+                        if (texture < 0) return std::optional<glm::dvec4>();
+                        return std::optional<glm::dvec4>(hitTexel(hit, decal, scene.textures[std::size_t(texture)],
+                                                                  chains[std::size_t(texture)], slack, ambiguous));
+                    };
+                    DecalValues values;
+                    values.albedo = texel(decal.albedo_texture);
+                    values.normal = texel(decal.normal_texture);
+                    values.orm = texel(decal.orm_texture);
+                    values.emission = texel(decal.emission_texture);
+                    values.facing = hit.facing;
+                    values.right = hit.right;
+                    values.up = hit.up;
+                    return values;
+                };
+                if (taps.valid) {
+                    // each tap blends the decal into the material as it stands before this decal;
+                    // the pixel takes their mean under the filter's weights
+                    const glm::dmat3 to_local(world_to_local[k]);
+                    const std::vector<double>& offsets = quadrature.offsets;
+                    const std::vector<double>& weights = quadrature.weights;
+                    const double h = quadrature.step;
+                    const Stratum stratum{to_local * (taps.du * h), to_local * (taps.dv * h)};
+                    Surface sum;
+                    sum.normal = glm::dvec3(0.0);
+                    sum.normal_changed = surface.normal_changed;
+                    bool touched = false;
+                    for (std::size_t j = 0; j < offsets.size(); ++j)
+                        for (std::size_t t = 0; t < offsets.size(); ++t) {
+                            Surface out = surface;
+                            const auto tap = rayOnPlane(frame, camera, inverse_projection, x + offsets[t],
+                                                        y + offsets[j], *p, *normal);
+                            if (tap) {
+                                const DecalHit hit = hitDecal(decal, world_to_local[k], *tap, normal, {}, slack, &stratum);
+                                if (hit.ambiguous && !(hit.fade > 0.0)) result.ambiguous[i] = 1;  // just outside
+                                bool reaches = hit.fade > 0.0;
+                                if (reaches && blast_maps[k]) {
+                                    const BlastVisibility v = blast_maps[k]->test(*tap, *normal, slack);
+                                    if (v.ambiguous) result.ambiguous[i] = 1;
+                                    reaches = v.reaches;
+                                }
+                                if (reaches) {
+                                    bool ambiguous = hit.ambiguous;
+                                    applyDecal(decal, valuesAt(hit, ambiguous), hit.fade * weight, *normal, has, out);
+                                    if (ambiguous) result.ambiguous[i] = 1;
+                                    touched = true;
+                                }
+                            }
+                            const double w = weights[t] * weights[j];
+                            sum.albedo += w * out.albedo;
+                            sum.normal += w * out.normal;
+                            sum.emission += w * out.emission;
+                            sum.roughness += w * out.roughness;
+                            sum.metallic += w * out.metallic;
+                            sum.ao += w * out.ao;
+                            sum.normal_changed = sum.normal_changed || out.normal_changed;
+                        }
+                    if (!touched) continue;
+                    if (sum.normal_changed && glm::length(sum.normal) > 1e-6) sum.normal = glm::normalize(sum.normal);
+                    surface = sum;
+                    continue;
+                }
                 const DecalHit hit = hitDecal(decal, world_to_local[k], *p, normal, footprint, slack);
                 bool ambiguous = hit.ambiguous;
                 if (!(hit.fade > 0.0)) {
@@ -557,23 +753,8 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                     if (v.ambiguous) result.ambiguous[i] = 1;
                     if (!v.reaches) continue;
                 }
-                auto texel = [&](int texture) {
-                    if (texture < 0) return std::optional<glm::dvec4>();
-                    return std::optional<glm::dvec4>(hitTexel(hit, decal, scene.textures[std::size_t(texture)],
-                                                              chains[std::size_t(texture)], slack, ambiguous));
-                };
-                DecalValues values;
-                values.albedo = texel(decal.albedo_texture);
-                values.normal = texel(decal.normal_texture);
-                values.orm = texel(decal.orm_texture);
-                values.emission = texel(decal.emission_texture);
-                values.facing = hit.facing;
-                values.right = hit.right;
-                values.up = hit.up;
-                double weight = decal.opacity;
-                if (decal.mask >= 0) weight *= frame.mask_weights[std::size_t(decal.mask)].at(i, 0);
-                const bool changed = applyDecal(decal, values, hit.fade * weight, normal.value_or(glm::dvec3(0.0)),
-                                                [&](DecalTarget t) { return frame.has(kTargetAttributes[int(t)]); }, surface);
+                const DecalValues values = valuesAt(hit, ambiguous);
+                const bool changed = applyDecal(decal, values, hit.fade * weight, normal.value_or(glm::dvec3(0.0)), has, surface);
                 const bool uses_normal = decal.angle_fade_deg[1] > 0.0 || decal.occlusion.enabled;
                 if (ambiguous || (normal_tie && uses_normal && changed)) result.ambiguous[i] = 1;
             }

@@ -87,6 +87,7 @@ struct Options {
     bool materials = false;      // full texture sets: normal maps and ORM into normal/roughness/metallic
     bool transfers = true;       // measure the transfer and bandwidth floors per size
     bool beauty = false;         // also rebuild a beauty from two light terms (synth_light.hpp)
+    std::string pixel_filter = "none";  // decals integrated over this pixel filter (pixel_filter.hpp)
 };
 
 // The beauty update's planes for a frame: the synthetic sun and sky, divided (Blender-style).
@@ -295,6 +296,9 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"box", "volume", "frustum", "cube"}));
     app.add_flag("--beauty", opt.beauty,
                  "also rebuild a beauty from a direct and an indirect light term in the shading kernel");
+    app.add_option("--pixel-filter", opt.pixel_filter,
+                   "integrate decals over this pixel filter (TYPE:WIDTH, e.g. blackman-harris:3; default none); the "
+                   "frames then keep their normal pass, as renders with a filter have one");
     bool no_transfers = false;
     app.add_flag("--no-transfers", no_transfers, "skip measuring the transfer and bandwidth floors");
     bool list = false;
@@ -370,8 +374,10 @@ int main(int argc, char** argv) {
                 compositor.setScene(decal_scene);
                 // Keep only the planes the compositor reads, so frame copies stay cheap.
                 GBuffer frame = full;
+                frame.pixel_filter = parsePixelFilter(opt.pixel_filter, "--pixel-filter");
                 auto used = [&](Attribute a) {
                     if (a == Attribute::Depth || a == Attribute::Albedo) return true;
+                    if (a == Attribute::Normal && frame.pixel_filter.enabled()) return true;
                     return opt.materials && (a == Attribute::Normal || a == Attribute::Roughness || a == Attribute::Metallic);
                 };
                 for (auto it = frame.planes.begin(); it != frame.planes.end();)

@@ -46,8 +46,10 @@ void run(BatchFlags& f) {
     ProgressPrinter printer(std::cerr, progressStyle(f));
     const BatchReport report = runBatch(r, &printer);
     for (const std::string& warning : report.warnings) std::cerr << "decalcomp: warning: " << warning << "\n";
-    if (!f.quiet)
+    if (!f.quiet) {
         for (const std::string& note : report.beauty) std::cout << "beauty: " << note << "\n";
+        for (const std::string& note : report.pixel_filter) std::cout << "pixel filter: " << note << "\n";
+    }
     if (f.timing) {
         const BatchTimings& t = report.timings;
         const double n = std::max(1, report.progress.written + report.progress.failed);
@@ -131,6 +133,7 @@ Command addBatchCommand(CLI::App& app) {
                   "Print the chunks the writes copied and re-encoded, summed over the frames (even with --quiet)");
     addMappingOptions(*cmd, r.mapping, flags->channels, flags->depth);
     addBeautyOptions(*cmd, r.beauty);
+    addPixelFilterOption(*cmd, r.pixel_filter);
     addPassOptions(*cmd, flags->passes);
     return [flags] { run(*flags); };
 }

@@ -60,6 +60,7 @@ Command addCompositeCommand(CLI::App& app) {
                   "(even with --quiet)");
     addMappingOptions(*cmd, flags->options.mapping, flags->channels, flags->depth);
     addBeautyOptions(*cmd, flags->options.beauty);
+    addPixelFilterOption(*cmd, flags->options.pixel_filter);
     addPassOptions(*cmd, flags->passes);
     return [flags] {
         finishMappingOptions(flags->options.mapping, flags->channels, flags->depth);
@@ -94,6 +95,7 @@ Command addCompositeCommand(CLI::App& app) {
                 std::cout << fmt::format("relight: direct light fit over {} pixels, rms residual {:.4g}\n",
                                          report.beauty.fit->pixels, report.beauty.fit->rms);
         }
+        if (!report.pixel_filter.empty()) std::cout << "pixel filter: " << report.pixel_filter << "\n";
         if (report.depth_check.performed) std::cout << "depth check: " << report.depth_check.summary() << "\n";
         if (report.normal_check.performed) std::cout << "normal check: " << report.normal_check.summary() << "\n";
     };

@@ -7,6 +7,7 @@
 
 #include "decalcomp/beauty.hpp"
 #include "decalcomp/channel_mapping.hpp"
+#include "decalcomp/pixel_filter.hpp"
 
 namespace decalcomp::cli {
 
@@ -23,6 +24,9 @@ void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<s
 // Validates and folds the raw flags into options; throws Error(Usage) naming the flag.
 void finishMappingOptions(MappingOptions& options, const std::vector<std::string>& channel_flags,
                           const std::string& depth_flag);
+
+// --pixel-filter TYPE:WIDTH|none|auto: shared by composite and batch.
+void addPixelFilterOption(CLI::App& command, std::optional<PixelFilter>& filter);
 
 // --beauty auto|on|off and --relight: shared by composite and batch.
 void addBeautyOptions(CLI::App& command, BeautyOptions& options);

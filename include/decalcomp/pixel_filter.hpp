@@ -1,0 +1,49 @@
+#pragma once
+// The renderer's pixel filter (docs/pixel-filter.md): every pass of an antialiased render is a
+// filtered average over each pixel's footprint, so decals are integrated over the same filter.
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace decalcomp {
+
+enum class PixelFilterType { None, Box, Gaussian, BlackmanHarris };
+
+// A separable filter: weight(x, y) = weight1d(x) * weight1d(y), x and y in pixels from the centre.
+// `width` is the filter's nominal width in pixels: the full support for box and Blackman-Harris,
+// 4 standard deviations for the Gaussian (RenderMan's and Cycles' convention; evaluated out to 3
+// sigma). Cycles doubles its Blackman-Harris "Filter Size": Blender's default 1.5 px is
+// blackman-harris:3 here.
+struct PixelFilter {
+    PixelFilterType type = PixelFilterType::None;
+    double width = 0.0;
+
+    bool enabled() const { return type != PixelFilterType::None; }
+    double radius() const;                 // support half-width in pixels (0 for none)
+    double weight1d(double x) const;       // unnormalised
+    std::string spelling() const;          // "none", "box:1", "gaussian:2", "blackman-harris:3"
+    bool operator==(const PixelFilter& other) const { return type == other.type && width == other.width; }
+};
+
+// "none", or TYPE:WIDTH with TYPE box|gaussian|blackman-harris and 0 < WIDTH <= 8. Throws
+// Error(Input) naming `what` (the option or field; may be empty) for anything else.
+PixelFilter parsePixelFilter(const std::string& text, const std::string& what);
+
+// The 1D quadrature the kernels integrate with: [-radius, radius] cut into strata `step` pixels
+// wide (at most 0.5 px, 4 to kMaxFilterTaps of them), one tap per stratum at its centroid under
+// the filter, weighted by the filter's integral over it (normalised to sum 1). 2D taps are the
+// products. Each tap prefilters its stratum (soft decal edges, texture lookups of the stratum's
+// size), so a few taps integrate steps accurately.
+struct FilterQuadrature {
+    std::vector<double> offsets, weights;
+    double step = 0.0;
+};
+inline constexpr int kMaxFilterTaps = 8;
+FilterQuadrature filterQuadrature(const PixelFilter& filter);
+
+// Pixels beyond a decal's projection that filtering can change or read: the widest filter's
+// radius (gaussian:8, 6 px), half a stratum and the neighbour the mixed-pixel test reads.
+inline constexpr int kMaxFilterReach = 8;
+FilterQuadrature filterQuadrature(const PixelFilter& filter);
+
+}  // namespace decalcomp
