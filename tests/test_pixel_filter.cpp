@@ -121,7 +121,7 @@ TEST_P(FilteredRandomScenes, BinnedEqualsUnbinnedExactly) {
     EXPECT_EQ(test::binnedUnbinnedDifferences(f, test::makeRandomDecals(f, GetParam(), 300)), 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Seeds, FilteredRandomScenes, ::testing::Values(1u, 2u, 3u, 4u, 5u, 6u));
+INSTANTIATE_TEST_SUITE_P(Seeds, FilteredRandomScenes, ::testing::Values(1u, 2u, 3u, 4u));
 
 // ---- exact filtered truth: the demo scene rendered kFactor times finer, its decals composited
 // point-sampled there by the reference, then both filtered down as a renderer filters samples.
@@ -239,7 +239,7 @@ TEST(PixelFilterTruth, PannedDecalChangesSmoothly) {
     // a quarter of a pixel at the decal's depth, along the camera's right axis
     const double quarter = 0.25 * (2.0 / kWidth) * depth / camera.projection[0][0];
     const glm::dvec3 right = glm::normalize(glm::dvec3(glm::inverse(camera.world_to_camera)[0]));
-    const int frames = 8;
+    const int frames = 5;
     std::vector<FilteredTruth> truths;
     std::vector<GBuffer> filtered, point;
     for (int k = 0; k < frames; ++k) {
@@ -271,7 +271,7 @@ TEST(PixelFilterTruth, PannedDecalChangesSmoothly) {
     const double filtered_error = temporalError(filtered), point_error = temporalError(point);
     std::printf("frame-to-frame error: filtered %.5f, point-sampled %.5f (RMS)\n", filtered_error, point_error);
     RecordProperty("temporal_rms_filtered", std::to_string(filtered_error));
-    EXPECT_LT(filtered_error, 0.2 * point_error);  // measured 0.0039 against 0.068
+    EXPECT_LT(filtered_error, 0.2 * point_error);  // measured 0.0033 against 0.068 RMS
     for (int k = 0; k < frames; ++k) EXPECT_GE(decalPsnr(filtered[std::size_t(k)], truths[std::size_t(k)]), 36.0) << k;
 }
 
