@@ -24,6 +24,8 @@ constexpr FilterName kFilterNames[] = {{PixelFilterType::Box, "box"},
 // stratum is integrated by its soft edge, a wider one would blur it.
 constexpr double kMaxStep = 0.5;
 constexpr int kMinTaps = 4;
+// A stratum at either end holding less than this share of the filter's mass is left out.
+constexpr double kNegligible = 0.01;
 
 }  // namespace
 
@@ -111,6 +113,16 @@ FilterQuadrature stratified(const PixelFilter& filter, double max_step, int min_
         total += mass;
     }
     for (double& w : q.weights) w /= total;
+    // Outer strata the filter barely weighs (Blackman-Harris' tails) cost taps for nothing: drop
+    // each end's stratum while it holds less than kNegligible of the mass, and renormalise.
+    while (q.offsets.size() > std::size_t(min_taps) && q.weights.front() < kNegligible) {
+        const double dropped = q.weights.front() + q.weights.back();
+        q.offsets.erase(q.offsets.begin());
+        q.offsets.pop_back();
+        q.weights.erase(q.weights.begin());
+        q.weights.pop_back();
+        for (double& w : q.weights) w /= 1.0 - dropped;
+    }
     return q;
 }
 
