@@ -5,7 +5,10 @@
 #     a CLI run whose exit code a test does not look at (reports go to files, checked at the end);
 #  2. every fuzz target for SECONDS (default 30) on seeds from data/.
 #   tools/sanitize-and-fuzz.sh [SECONDS]      build dir: $DECALCOMP_SANITIZE_BUILD or build-fuzz
-# Extra arguments for ctest go in CTEST_ARGS (e.g. "-R Masks").
+# Extra arguments for ctest go in CTEST_ARGS (e.g. "-R Masks"). By default the pixel filter's
+# accuracy tests against supersampled truth (brute-force double-precision compositing of 6x frames,
+# minutes under ASan) and its binned/unbinned twin are left out: the same host code runs under
+# ASan in FilteredRandomScenes.KernelMatchesReference (docs/fuzzing.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-30}
@@ -30,7 +33,7 @@ rm -rf "$reports" && mkdir -p "$reports"
   # One more test than cores: the CLI tests spend much of their time starting processes (ASan's
   # shadow memory, PoCL), so a third job fills the gaps.
   # shellcheck disable=SC2086
-  ctest --output-on-failure -j"$((jobs + 1))" ${CTEST_ARGS:-}
+  ctest --output-on-failure -j"$((jobs + 1))" ${CTEST_ARGS:--E PixelFilterTruth|FilteredRandomScenes.BinnedEqualsUnbinned}
 ) || suite_failed=1
 failed=""
 if [ -n "$(ls -A "$reports")" ]; then
