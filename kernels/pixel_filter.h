@@ -30,13 +30,6 @@ typedef struct {
     DcTapPlane plane;
 } DcTaps;
 
-inline void dc_pixel_ray(__constant const DcFrame* f, int x, int y, float3* origin, float3* dir) {
-    const float2 ndc = dc_pixel_ndc(f, x, y);
-    const float3 far_point = dc_unproject(f, ndc, 0.0f); /* finite with an infinite far plane */
-    *origin = f->orthographic ? dc_unproject(f, ndc, -1.0f) : (float3)(0.0f);
-    *dir = far_point - *origin;
-}
-
 /* The tap at pixel offset (u, v) on `plane`; false when its ray misses it in front of the camera. */
 inline bool dc_tap_point(const DcTapRays* r, const DcTapPlane* plane, float u, float v, float3* out) {
     const float3 o = r->origin + r->origin_u * u + r->origin_v * v;

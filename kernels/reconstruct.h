@@ -75,15 +75,21 @@ inline bool dc_view_depth(__constant const DcFrame* f, __global const float* dep
     return true;
 }
 
+/* The ray through the centre of pixel (x, y): origin + t dir, t > 0 in front of the camera. */
+inline void dc_pixel_ray(__constant const DcFrame* f, int x, int y, float3* origin, float3* dir) {
+    const float2 ndc = dc_pixel_ndc(f, x, y);
+    const float3 far_point = dc_unproject(f, ndc, 0.0f); /* finite with an infinite far plane */
+    *origin = f->orthographic ? dc_unproject(f, ndc, -1.0f) : (float3)(0.0f);
+    *dir = far_point - *origin;
+}
+
 /* Footprint of pixel (x, y): where the rays of its right and lower neighbours meet the plane
  * through p with normal n (no neighbour depth is read, so silhouettes cannot disturb it).
  * Returns 0 when a ray runs parallel to the plane or meets it behind the camera. */
 inline int dc_footprint(__constant const DcFrame* f, int x, int y, float3 p, float3 n, float3* p_dx, float3* p_dy) {
     for (int a = 0; a < 2; ++a) {
-        const float2 ndc = dc_pixel_ndc(f, x + (a == 0), y + (a == 1));
-        const float3 far_point = dc_unproject(f, ndc, 0.0f); /* finite with an infinite far plane */
-        const float3 origin = f->orthographic ? dc_unproject(f, ndc, -1.0f) : (float3)(0.0f);
-        const float3 dir = far_point - origin;
+        float3 origin, dir;
+        dc_pixel_ray(f, x + (a == 0), y + (a == 1), &origin, &dir);
         const float denom = dot(dir, n);
         if (!(fabs(denom) > 1e-6f * length(dir))) return 0;
         const float t = dot(p - origin, n) / denom;

@@ -518,26 +518,6 @@ glm::dvec4 hitTexel(const DecalHit& hit, const Decal& decal, const Texture2D& t,
 
 namespace {
 
-// The neighbours' rays (x+1, y) and (x, y+1) against the plane through P with normal n, in world space.
-Footprint pixelFootprint(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection, int x, int y,
-                         const glm::dvec3& P, const glm::dvec3& n) {
-    const glm::dmat4 camera_to_world = glm::inverse(camera.world_to_camera);
-    Footprint fp;
-    for (int a = 0; a < 2; ++a) {
-        const glm::dvec2 ndc = pixelNdc(f, x + (a == 0), y + (a == 1));
-        const glm::dvec3 far_cam = unproject(inverse_projection, ndc, 0.0);  // finite if far = inf
-        const glm::dvec3 origin_cam = camera.isOrthographic() ? unproject(inverse_projection, ndc, -1.0) : glm::dvec3(0.0);
-        const glm::dvec3 origin(camera_to_world * glm::dvec4(origin_cam, 1.0));
-        const glm::dvec3 dir(camera_to_world * glm::dvec4(far_cam - origin_cam, 0.0));
-        const double denom = glm::dot(dir, n);
-        if (!(std::abs(denom) > 1e-6 * glm::length(dir))) return fp;
-        const double t = glm::dot(P - origin, n) / denom;
-        if (!(t > 0.0)) return fp;
-        (a == 0 ? fp.dx : fp.dy) = origin + dir * t;
-    }
-    fp.valid = true;
-    return fp;
-}
 
 }  // namespace
 
@@ -559,6 +539,17 @@ std::optional<glm::dvec3> rayOnPlane(const GBuffer& f, const Camera& camera, con
     const double t = glm::dot(P - origin, n) / denom;
     if (!(t > 0.0)) return std::nullopt;
     return origin + dir * t;
+}
+
+// The neighbours' rays (x+1, y) and (x, y+1) against the plane through P with normal n, in world space.
+Footprint pixelFootprint(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection, int x, int y,
+                         const glm::dvec3& P, const glm::dvec3& n) {
+    Footprint fp;
+    const auto dx = rayOnPlane(f, camera, inverse_projection, x + 1.0, y, P, n);
+    const auto dy = rayOnPlane(f, camera, inverse_projection, x, y + 1.0, P, n);
+    if (!dx || !dy) return fp;
+    fp = {true, *dx, *dy};
+    return fp;
 }
 
 // The pixel filter's footprint on pixel (x, y)'s tangent plane (docs/pixel-filter.md), or
