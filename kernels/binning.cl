@@ -33,6 +33,17 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
     float3 corner[8];
     float w[8];
     __global const DcDecal* d = &decals[id];
+    if (d->rest_binding >= 0) { /* texture-space: wherever its object is seen; the rest pass decides */
+        DcDecalBounds all;
+        all.tile_x0 = all.tile_y0 = 0;
+        all.tile_x1 = frame->tiles_x - 1;
+        all.tile_y1 = frame->tiles_y - 1;
+        all.depth_min = -MAXFLOAT;
+        all.depth_max = MAXFLOAT;
+        all.pad0 = all.pad1 = 0;
+        bounds[id] = all;
+        return;
+    }
     for (int i = 0; i < 8; ++i) {
         /* corners of the decal's volume in local space, bit 0: x, bit 1: y, bit 2: z / near-far */
         float3 local_point = (float3)((i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 4) ? 0.5f : -0.5f);

@@ -17,6 +17,12 @@ inline float3 dc_unproject(__constant const DcFrame* f, float2 ndc, float ndc_z)
     return c.xyz / c.w;
 }
 
+/* A world-space direction in camera space (the linear part of world_to_camera). */
+inline float3 dc_world_to_camera_vector(__constant const DcFrame* f, float3 v) {
+    return (float3)(dot(vload3(0, f->world_to_camera), v), dot(vload3(0, f->world_to_camera + 4), v),
+                    dot(vload3(0, f->world_to_camera + 8), v));
+}
+
 inline bool dc_is_background_depth(float d) { return !(d > 0.0f) || isinf(d) || d >= DC_BACKGROUND_DEPTH; }
 
 /* Writes the camera-space point of pixel (x, y) and returns true, or returns false for

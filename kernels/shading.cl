@@ -9,13 +9,9 @@
 #include "occlusion.h"
 #include "pixel_filter.h"
 #include "reconstruct.h"
+#include "rest_pose.h"
 #include "shared_types.h"
 #include "texture_sample.h"
-
-inline float3 dc_world_to_camera_vector(__constant const DcFrame* f, float3 v) {
-    return (float3)(dot(vload3(0, f->world_to_camera), v), dot(vload3(0, f->world_to_camera + 4), v),
-                    dot(vload3(0, f->world_to_camera + 8), v));
-}
 
 /* The inverse for directions: the transpose of the (rotation) part of world_to_camera. */
 inline float3 dc_camera_to_world_vector(__constant const DcFrame* f, float3 v) {
@@ -75,7 +71,8 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                            __global const int* tile_decals, int binned, int list_capacity,
                            __global const float* mask_weights,
                            __global const uint* occlusion_maps, __global float4* beauty,
-                           __global float4* light, const int variant) {
+                           __global float4* light, __global const float4* rest_points,
+                           __global const float4* rest_frames, const int variant) {
     const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
     const int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame->width || y >= frame->height) return;
@@ -121,6 +118,14 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                                 : dc_point_taps();
         for (int k = begin; k < end; ++k) {
             __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
+            if (d->rest_binding >= 0) { /* texture-space: point-sampled at its rest point (rest_pose.h) */
+                float weight = d->opacity;
+                if (d->mask >= 0)
+                    weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
+                s = dc_apply_rest_decal(frame, d, rest_points, rest_frames, x, y, normal, has_normal, weight,
+                                        textures, texels, s, variant, &applied);
+                continue;
+            }
             if (taps.mode == DC_TAPS_PLANE) {
                 float weight = d->opacity;
                 if (d->mask >= 0)
@@ -160,11 +165,11 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
         __global const DcDecal *decals, __global const DcTexture *textures, __global const float4 *texels,       \
         __global const int *tile_offsets, __global const int *tile_decals, int binned, int list_capacity,       \
         __global const float *mask_weights, __global const uint *occlusion_maps, __global float4 *beauty,       \
-        __global float4 *light
+        __global float4 *light, __global const float4 *rest_points, __global const float4 *rest_frames
 #define DC_SHADE_CALL(VARIANT)                                                                              \
     dc_shade_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2, decals, textures, texels,   \
                    tile_offsets, tile_decals, binned, list_capacity,                                          \
-                   mask_weights, occlusion_maps, beauty, light, VARIANT)
+                   mask_weights, occlusion_maps, beauty, light, rest_points, rest_frames, VARIANT)
 
 /* Every target, kind and blast occlusion; then leaner kernels the host picks when a scene fits. */
 __kernel void dc_shade(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(0); }

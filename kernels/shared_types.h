@@ -108,7 +108,8 @@ typedef struct {
     DC_INT light_divided;   /* 1: light divided by its colour (Blender); 0: multiplied by it */
     DC_INT beauty_emission; /* 1: emission changes add to the beauty */
     DC_INT relight;         /* 1: direct light scaled by the Lambert ratio of new and old normal */
-    DC_INT pad0, pad1, pad2;
+    DC_INT rest_frames;     /* 1: the rest pass left each pixel's rest -> camera rotation (rest_pose.h) */
+    DC_INT pad1, pad2;
     DC_FLOAT light_fit[4]; /* direct light ~ max(0, [3] + dot([0..2], world normal)) */
     /* Decals integrated over the renderer's pixel filter (docs/pixel-filter.md): filter_taps per
      * axis (0: point-sampled at the pixel centre), at filter_offset pixels from the centre with
@@ -155,8 +156,23 @@ typedef struct {
     DC_FLOAT occlusion_bias; /* slope-scaled bias in texels */
     /* lengths of camera_to_local's rows: how far a camera-space distance moves each local axis */
     DC_FLOAT local_scale[3];
-    DC_INT pad0;
+    /* texture-space decal (rest_pose.h): its DcRestBinding, -1 = a world decal. Then "camera space"
+     * in the fields above is the rest mesh's object space. */
+    DC_INT rest_binding;
 } DcDecal;
+
+/* A texture-space binding (docs/texture-space.md): a rest mesh's UV grid and the mask of the object
+ * its decals stick to. Mesh data: 3 float4 per vertex, (position, u), (normal, v), (tangent,
+ * handedness); int4 triangles; the grid's cells list triangle indices (absolute). */
+typedef struct {
+    DC_FLOAT uv_origin[2];
+    DC_FLOAT cells_per_uv[2];
+    DC_INT cells_x, cells_y;
+    DC_INT first_cell; /* the grid's cells_x * cells_y + 1 offsets (into the triangle list) start here */
+    DC_INT mask;       /* weight plane of the object's pixels; -1: every pixel */
+    DC_INT flip_v;     /* 1: the UV pass counts v from the top, the mesh from the bottom */
+    DC_INT pad0, pad1, pad2;
+} DcRestBinding;
 
 /* Where a texture's texels (float4, premultiplied linear RGBA, top row first) start. */
 typedef struct {

@@ -11,45 +11,14 @@
 
 #include "decalcomp/exr_file.hpp"
 #include "support/test_support.hpp"
+#include "support/truth_score.hpp"
 
 namespace decalcomp {
 namespace {
 
-const std::vector<float>* findFloatChannel(const ExrImage& image, const std::string& name, std::vector<float>& storage) {
-    for (const ExrPart& part : image.parts)
-        for (const ExrChannel& c : part.channels)
-            if (c.qualified == name && c.type == SampleType::Float) {
-                storage.resize(c.bytes.size() / sizeof(float));
-                std::memcpy(storage.data(), c.bytes.data(), c.bytes.size());
-                return &storage;
-            }
-    return nullptr;
-}
-
-struct Score {
-    double psnr = 0;
-    std::size_t pixels = 0;
-};
-
-// PSNR (peak 1) of DiffCol R,G,B over the pixels where the truth's mask channel > 0.5.
-Score scoreAgainstTruth(const ExrImage& result, const ExrImage& truth, const std::string& mask_channel = "ViewLayer.DecalMask.X") {
-    std::vector<float> mask, a, b;
-    EXPECT_NE(findFloatChannel(truth, mask_channel, mask), nullptr) << mask_channel;
-    double squared = 0;
-    Score score;
-    for (const char* c : {"R", "G", "B"}) {
-        const std::string name = std::string("ViewLayer.DiffCol.") + c;
-        EXPECT_NE(findFloatChannel(result, name, a), nullptr) << name;
-        EXPECT_NE(findFloatChannel(truth, name, b), nullptr) << name;
-        for (std::size_t i = 0; i < mask.size(); ++i)
-            if (mask[i] > 0.5f) {
-                squared += double(a[i] - b[i]) * double(a[i] - b[i]);
-                ++score.pixels;
-            }
-    }
-    score.psnr = 10.0 * std::log10(double(score.pixels) / std::max(squared, 1e-30));
-    return score;
-}
+using test::findFloatChannel;
+using test::Score;
+using test::scoreAgainstTruth;
 
 struct MixedPixels {
     std::size_t pixels = 0, worse = 0;

@@ -8,6 +8,7 @@ PACKAGES="build-essential cmake pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo clang
   libopenexr-dev libopenimageio-dev openimageio-tools libglm-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libtinyobjloader-dev
   slurm-wlm slurmctld slurmd slurm-client munge
   clang-15 libfuzzer-15-dev libomp-15-dev llvm-15"
 missing=""

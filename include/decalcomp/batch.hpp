@@ -30,6 +30,7 @@ struct BatchRequest {
     MappingOptions mapping;
     BeautyOptions beauty;  // --beauty, --relight (FrameOptions::beauty)
     std::optional<PixelFilter> pixel_filter;  // --pixel-filter (FrameOptions::pixel_filter)
+    std::optional<bool> uv_v_down;            // --uv-origin (FrameOptions::uv_v_down)
     bool overwrite_input = false;
     bool resume = false;      // skip frames whose output exists (complete: writes are atomic)
     bool keep_going = false;  // a failed frame does not stop the batch

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "decalcomp/rest_mesh.hpp"
+
 namespace decalcomp {
 
 enum class DecalKind { Box, Volume, Frustum, Cube };
@@ -97,10 +99,17 @@ struct DecalOcclusion {
     bool operator==(const DecalOcclusion&) const = default;
 };
 
+// Where a decal is placed (docs/texture-space.md): in the world, or on an object's rest-pose
+// mesh, reached per pixel through the frame's UV pass so the decal sticks to the deforming surface.
+enum class DecalSpace { World, ObjectRest };
+
 struct Decal {
     std::string name;
     DecalKind kind = DecalKind::Box;
-    glm::dmat4 world_matrix{1.0};  // decal local space -> world; local = inverse(M) * P
+    // decal local space -> world (ObjectRest: -> the rest mesh's object space); local = inverse(M) * P
+    glm::dmat4 world_matrix{1.0};
+    DecalSpace space = DecalSpace::World;
+    int rest_mesh = -1;  // ObjectRest: index into DecalScene::meshes; `mask` selects the object's pixels
     int albedo_texture = -1;       // index into DecalScene::textures, -1 = none
     // The rest of the texture set (seed 002), same shape as the albedo (2D, volume or cube):
     // a tangent-space normal map (OpenGL, +Y up; data, not colour), occlusion/roughness/metallic
@@ -139,6 +148,7 @@ struct DecalScene {
     std::vector<Texture2D> textures;
     std::vector<Decal> decals;  // in blend order
     std::vector<DecalMask> masks;  // distinct masks the decals refer to
+    std::vector<RestMesh> meshes;  // rest-pose meshes of texture-space decals
     std::vector<std::string> warnings;  // found while loading (duplicate decal names); the CLI prints them
 };
 
@@ -150,6 +160,7 @@ DecalScene sceneAtFrame(const DecalScene& scene, double frame);
 std::vector<Decal> decalsAtFrame(const std::vector<Decal>& decals, double frame);
 std::optional<Decal> decalAtFrame(const Decal& decal, double frame);
 bool isAnimated(const DecalScene& scene);  // any decal with a lifetime or keyframes
+bool hasTextureSpaceDecals(const DecalScene& scene);  // any decal placed on a rest mesh
 
 // Whether a decal changes a target: a positive factor and something to take the value from (a
 // texture of the set or a constant).

@@ -43,6 +43,7 @@ struct FrameOptions {
     CompositeOptions compositing;
     BeautyOptions beauty;  // --beauty, --relight
     std::optional<PixelFilter> pixel_filter;  // --pixel-filter; nullopt: chosen per frame (frame_pixel_filter.hpp)
+    std::optional<bool> uv_v_down;  // --uv-origin top (true) | bottom; nullopt: from the rest meshes (texture space)
     std::optional<double> frame_number;  // picks animated decals' state; nullopt: the scene as written
     std::string label;  // names the frame in warnings (a batch gives its pattern); default: the first input
 };

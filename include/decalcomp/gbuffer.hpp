@@ -49,6 +49,7 @@ struct GBuffer {
     bool reversed_z = false;                    // only for DepthConvention::Ndc
     NormalEncoding normal_encoding;             // of the Normal plane, as in the file
     PixelFilter pixel_filter;                   // the renderer's: decals are integrated over it
+    bool uv_v_down = false;  // the UV pass counts v from the top (rest meshes count it from the bottom)
     std::map<Attribute, Plane> planes;
     // One single-component weight plane per DecalScene::masks entry, evaluated for this frame.
     std::vector<Plane> mask_weights;

@@ -50,7 +50,7 @@ DC_CHECK(DC_OFFSET(DcFrame, summed_terms) == 276);
 DC_CHECK(DC_OFFSET(DcFrame, light_divided) == 280);
 DC_CHECK(DC_OFFSET(DcFrame, beauty_emission) == 284);
 DC_CHECK(DC_OFFSET(DcFrame, relight) == 288);
-DC_CHECK(DC_OFFSET(DcFrame, pad0) == 292);
+DC_CHECK(DC_OFFSET(DcFrame, rest_frames) == 292);
 DC_CHECK(DC_OFFSET(DcFrame, light_fit) == 304);
 DC_CHECK(DC_OFFSET(DcFrame, filter_taps) == 320);
 DC_CHECK(DC_OFFSET(DcFrame, filter_step) == 324);
@@ -93,7 +93,17 @@ DC_CHECK(DC_OFFSET(DcDecal, occlusion_width) == 276);
 DC_CHECK(DC_OFFSET(DcDecal, occlusion_height) == 280);
 DC_CHECK(DC_OFFSET(DcDecal, occlusion_bias) == 284);
 DC_CHECK(DC_OFFSET(DcDecal, local_scale) == 288);
-DC_CHECK(DC_OFFSET(DcDecal, pad0) == 300);
+DC_CHECK(DC_OFFSET(DcDecal, rest_binding) == 300);
+
+DC_CHECK(sizeof(DcRestBinding) == 48);
+DC_CHECK(DC_OFFSET(DcRestBinding, uv_origin) == 0);
+DC_CHECK(DC_OFFSET(DcRestBinding, cells_per_uv) == 8);
+DC_CHECK(DC_OFFSET(DcRestBinding, cells_x) == 16);
+DC_CHECK(DC_OFFSET(DcRestBinding, cells_y) == 20);
+DC_CHECK(DC_OFFSET(DcRestBinding, first_cell) == 24);
+DC_CHECK(DC_OFFSET(DcRestBinding, mask) == 28);
+DC_CHECK(DC_OFFSET(DcRestBinding, flip_v) == 32);
+DC_CHECK(DC_OFFSET(DcRestBinding, pad0) == 36);
 
 DC_CHECK(sizeof(DcTexture) == 32);
 DC_CHECK(DC_OFFSET(DcTexture, offset) == 0);

@@ -13,6 +13,7 @@
 #include "compositor/kernel_params.hpp"
 #include "compositor/kernels.hpp"
 #include "compositor/occlusion_maps.hpp"
+#include "compositor/rest_pass.hpp"
 #include "compositor/staged_buffer.hpp"
 #include "compositor/surface_planes.hpp"
 #include "decalcomp/error.hpp"
@@ -106,6 +107,8 @@ struct Compositor::State {
     std::vector<int> texture_entries;           // scene texture index -> texture table entry
     std::array<bool, kDecalTargets> targets{};  // what the scene's decals change
     DecalScene scene;                           // decals only; textures live on the device
+    RestMeshBuffers rest_meshes;                // texture-space decals' meshes, on the device
+    RestPassBuffers rest_pass;                  // their per-frame rest points and rotations
 
     // per frame, kept alive until the queue has passed their (non-blocking) uploads
     cl_types::DcFrame frame_params{};
@@ -158,6 +161,7 @@ void Compositor::setScene(const DecalScene& scene) {
     } catch (const cl::Error& e) {
         throw deviceError(fmt::format("{}: uploading decal textures: {}", device_.info().name, clErrorName(e.err())));
     }
+    state_->rest_meshes = uploadRestMeshes(device_.context(), scene.meshes);
     state_->texture_entries = packed.first_entry;
     state_->mask_count = scene.masks.size();
     state_->scene.textures.clear();
@@ -173,6 +177,8 @@ void Compositor::setDecals(const std::vector<Decal>& decals) {
                 throw inputError(fmt::format("decal '{}': texture index {} out of range", d.name, index));
         if (d.mask >= int(state_->mask_count))
             throw inputError(fmt::format("decal '{}': mask index {} out of range", d.name, d.mask));
+        if (d.space == DecalSpace::ObjectRest && (d.rest_mesh < 0 || d.rest_mesh >= int(state_->rest_meshes.grids.size())))
+            throw inputError(fmt::format("decal '{}': rest mesh index {} out of range", d.name, d.rest_mesh));
     }
     state_->scene.decals = decals;
     state_->targets = sceneTargets(state_->scene);
@@ -210,6 +216,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     cl::CommandQueue& queue = s.queue;
     s.decal_params = makeDecalParams(s.scene, camera, s.texture_entries);
     const OcclusionLayout occlusion = layoutOcclusionMaps(s.scene.decals, s.decal_params);
+    const RestBindings rest = bindRestDecals(s.scene.decals, s.rest_meshes, frame.uv_v_down, s.decal_params);
     s.frame_params = makeFrameParams(frame, camera, int(s.decal_params.size()));
     cl_types::DcFrame& params = s.frame_params;
     // Normals are read for angle fades, mip footprints, occlusion slopes, normal maps and the
@@ -217,6 +224,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     const bool needs_footprint = std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
                                              [](const Decal& d) { return d.filter == TextureFilter::Mip; });
     const bool needs_normals = needs_footprint || frame.pixel_filter.enabled() || !occlusion.occluders.empty() ||
+                               rest.needs_frames ||
                                std::any_of(s.scene.decals.begin(), s.scene.decals.end(),
                                            [](const Decal& d) { return d.angle_fade_deg[1] > 0.0; });
     const SurfaceLayout surface = surfaceLayout(frame, s.targets, needs_normals);
@@ -224,6 +232,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     params.has_normal = (surface.attributes & (1 << DC_TARGET_NORMAL)) ? 1 : 0;
     params.reconstruct_normals = needs_normals && !params.has_normal ? 1 : 0;
     params.needs_footprint = needs_footprint ? 1 : 0;
+    params.rest_frames = rest.needs_frames ? 1 : 0;
     setBeautyParams(params, beauty);
     const std::size_t pixels = frame.pixelCount();
     const std::size_t decals = s.decal_params.size();
@@ -361,6 +370,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                                         &totals_read);
             }
 
+            enqueueRestPass(context, queue, k, s.rest_meshes, rest, frame, s.frame_buffer, depth, position,
+                            s.surface[1].device(), s.masks.device(), s.rest_pass);
             cl::Event e_occlusion;
             const cl::Buffer occlusion_maps =
                 buildOcclusionMaps(context, queue, k, occlusion, s.frame_buffer, depth, position, s.decal_buffer,
@@ -385,7 +396,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 shade_range,
                 s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(), s.surface[2].device(),
                 s.decal_buffer, s.texture_table, s.texels, s.tile_offsets, s.tile_decals, cl_int(binned ? 1 : 0),
-                cl_int(s.list_capacity), s.masks.device(), occlusion_maps, s.beauty.device(), s.light.device());
+                cl_int(s.list_capacity), s.masks.device(), occlusion_maps, s.beauty.device(), s.light.device(),
+                s.rest_pass.points, s.rest_pass.frames);
             // Only the groups that hold a changed attribute come back, run by run, each unpacked
             // while the next is still on its way.
             std::vector<std::array<cl::Event, kSurfaceGroups>> downloaded(static_cast<std::size_t>(runs));

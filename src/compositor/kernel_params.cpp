@@ -127,9 +127,14 @@ std::vector<cl_types::DcDecal> makeDecalParams(const DecalScene& scene, const Ca
     out.reserve(scene.decals.size());
     for (const Decal& decal : scene.decals) {
         cl_types::DcDecal d{};
-        storeRowMajor(glm::inverse(decal.world_matrix) * camera_to_world, d.camera_to_local, 3);
-        storeRowMajor(camera.world_to_camera * decal.world_matrix, d.local_to_camera, 3);
-        const glm::dmat4 camera_to_local = glm::inverse(decal.world_matrix) * camera_to_world;
+        // A texture-space decal works in its rest mesh's object space (kernels/rest_pose.h), which
+        // stands in for camera space in every field below.
+        const bool rest = decal.space == DecalSpace::ObjectRest;
+        const glm::dmat4 to_camera = rest ? glm::dmat4(1.0) : camera.world_to_camera;
+        const glm::dmat4 camera_to_local = glm::inverse(decal.world_matrix) * (rest ? glm::dmat4(1.0) : camera_to_world);
+        storeRowMajor(camera_to_local, d.camera_to_local, 3);
+        storeRowMajor(to_camera * decal.world_matrix, d.local_to_camera, 3);
+        d.rest_binding = -1;  // bindRestDecals() sets texture-space decals' bindings
         for (int r = 0; r < 3; ++r)
             d.local_scale[r] = float(glm::length(glm::dvec3(camera_to_local[0][r], camera_to_local[1][r], camera_to_local[2][r])));
         d.kind = kindCode(decal.kind);
@@ -142,7 +147,7 @@ std::vector<cl_types::DcDecal> makeDecalParams(const DecalScene& scene, const Ca
         d.aspect = float(decal.aspect);
         d.near_plane = float(decal.near);
         d.far_plane = float(decal.far);
-        const glm::dvec3 facing = glm::normalize(glm::dvec3(camera.world_to_camera * decal.world_matrix[2]));
+        const glm::dvec3 facing = glm::normalize(glm::dvec3(to_camera * decal.world_matrix[2]));
         for (int i = 0; i < 3; ++i) d.facing_axis[i] = float(facing[i]);
         d.angle_fade[0] = float(glm::radians(decal.angle_fade_deg[0]));
         d.angle_fade[1] = float(glm::radians(decal.angle_fade_deg[1]));

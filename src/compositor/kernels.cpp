@@ -23,6 +23,8 @@ CompositorKernels::CompositorKernels(const cl::Program& program)
       bin_fill(program, "dc_bin_fill"),
       scan(program, "dc_scan"),
       occlusion_build(program, "dc_occlusion_build"),
+      rest_lookup(program, "dc_rest_lookup"),
+      rest_frame(program, "dc_rest_frame"),
       shade{Shade(program, "dc_shade"), Shade(program, "dc_shade_albedo"), Shade(program, "dc_shade_flat"),
             Shade(program, "dc_shade_albedo_flat")} {}
 

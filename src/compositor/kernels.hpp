@@ -33,10 +33,17 @@ struct CompositorKernels {
     cl::KernelFunctor<Buffer, cl_int, Buffer> scan;
     // frame, depth plane, position plane, decals, occluder indices, occluder count, maps
     cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer> occlusion_build;
+    // frame, bindings, binding, uv plane, mask weights, vertices, triangles, cells, cell triangles,
+    // rest points, rest frames (kernels/rest_pose.cl)
+    cl::KernelFunctor<Buffer, Buffer, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer>
+        rest_lookup;
+    // frame, binding, depth, position, surface group 1, vertices, triangles, rest points, rest frames
+    cl::KernelFunctor<Buffer, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer> rest_frame;
     // frame, depth, position, surface groups 0-2 (in place), decals, texture table, texels,
-    // tile offsets, tile lists, binned, list capacity, mask weights, occlusion maps, beauty, light
+    // tile offsets, tile lists, binned, list capacity, mask weights, occlusion maps, beauty, light,
+    // rest points, rest frames
     using Shade = cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
-                                    Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer>;
+                                    Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer>;
     std::array<Shade, 4> shade;  // by variant bits: DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT
 };
 

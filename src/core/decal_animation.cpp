@@ -105,8 +105,14 @@ DecalScene sceneAtFrame(const DecalScene& scene, double frame) {
     DecalScene out;
     out.textures = scene.textures;
     out.masks = scene.masks;
+    out.meshes = scene.meshes;
     out.decals = decalsAtFrame(scene.decals, frame);
     return out;
+}
+
+bool hasTextureSpaceDecals(const DecalScene& scene) {
+    return std::any_of(scene.decals.begin(), scene.decals.end(),
+                       [](const Decal& d) { return d.space == DecalSpace::ObjectRest; });
 }
 
 bool isAnimated(const DecalScene& scene) {

@@ -10,6 +10,7 @@
 #include "decalcomp/masks.hpp"
 #include "decalcomp/pipeline.hpp"
 #include "pipeline/frame_pixel_filter.hpp"
+#include "pipeline/frame_texture_space.hpp"
 
 namespace decalcomp {
 
@@ -48,6 +49,7 @@ ExrReadRegion Frame::readRegion(const DecalScene& scene) const {
     const ExrReadRegion everything;
     // A preview shows every pixel; a new channel is written into every chunk.
     if (!targets_.preview.empty() || !options_.mapping.add_channels.empty()) return everything;
+    if (hasTextureSpaceDecals(scene)) return everything;  // they go wherever their object is seen
     const std::vector<Decal> decals = frameDecals(scene);
     if (decals.empty()) return ExrReadRegion{false, {}};
     std::vector<std::string> paths = sources_.inputs;
@@ -146,6 +148,7 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
         report_.warnings.push_back(std::move(warning));
     // Decal masks for this frame; their warnings name the first input by the label, as above.
     evaluateMasks(files_, mapping, scene, gbuffer_, &report_.warnings, {options_.label});
+    settleTextureSpace(scene, decals_, mapping, options_.uv_v_down, label(), gbuffer_, report_.warnings);
     beauty_.read(files_, mapping, gbuffer_, camera_, !targets_.preview.empty());
     prepared_ = true;
 }

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "reference/occlusion.hpp"
+#include "reference/rest_pose.hpp"
 
 namespace decalcomp::reference {
 
@@ -641,6 +642,17 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
     for (std::size_t k = 0; k < scene.decals.size(); ++k)
         if (scene.decals[k].occlusion.enabled)
             blast_maps[k].emplace(scene.decals[k], frame, camera, [&, k](const glm::dvec3& P) { return slackAt(k, P); });
+    // Texture-space decals: one rest pass per (mesh, object mask) pair.
+    std::map<std::pair<int, int>, RestPixels> rest;
+    if (hasTextureSpaceDecals(scene)) {
+        std::vector<std::optional<glm::dvec3>> world_normals;
+        if (has_normal)
+            for (std::size_t i = 0; i < frame.pixelCount(); ++i) world_normals.push_back(decodedNormal(frame, camera, i));
+        for (const Decal& d : scene.decals)
+            if (d.space == DecalSpace::ObjectRest && !rest.count({d.rest_mesh, d.mask}))
+                rest.emplace(std::make_pair(d.rest_mesh, d.mask),
+                             restPixels(frame, camera, scene.meshes.at(std::size_t(d.rest_mesh)), d.mask, world_normals));
+    }
     for (int y = 0; y < frame.height; ++y)
         for (int x = 0; x < frame.width; ++x) {
             const auto p = pixelWorldPoint(frame, camera, x, y);
@@ -686,6 +698,41 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                     values.up = hit.up;
                     return values;
                 };
+                if (decal.space == DecalSpace::ObjectRest) {
+                    const RestPixels& r = rest.at({decal.rest_mesh, decal.mask});
+                    if (r.ambiguous[i]) result.ambiguous[i] = 1;
+                    if (!r.points[i]) continue;
+                    const glm::dvec3 P = *r.points[i];
+                    const glm::dmat3& to_world = r.rotation[i];
+                    const glm::dmat3 to_rest = glm::transpose(to_world);
+                    // mip footprint: the neighbours' rest points, one pixel right and down
+                    Footprint rest_footprint;
+                    const int xn = x + 1 < frame.width ? x + 1 : x - 1, yn = y + 1 < frame.height ? y + 1 : y - 1;
+                    if (decal.filter == TextureFilter::Mip && xn >= 0 && yn >= 0) {
+                        const auto& px = r.points[std::size_t(y) * frame.width + xn];
+                        const auto& py = r.points[std::size_t(yn) * frame.width + x];
+                        if (px && py)
+                            rest_footprint = {true, xn > x ? *px : 2.0 * P - *px, yn > y ? *py : 2.0 * P - *py};
+                    }
+                    std::optional<glm::dvec3> rest_normal;
+                    if (normal) rest_normal = to_rest * *normal;
+                    const double rest_slack = margin * scale[k] * (1.0 + glm::length(P));
+                    const DecalHit hit = hitDecal(decal, world_to_local[k], P, rest_normal, rest_footprint, rest_slack);
+                    bool ambiguous = hit.ambiguous;
+                    if (hit.fade > 0.0) {
+                        Surface in_rest = surface;
+                        in_rest.normal = to_rest * surface.normal;
+                        in_rest.normal_changed = false;
+                        applyDecal(decal, valuesAt(hit, ambiguous), hit.fade * weight, rest_normal.value_or(glm::dvec3(0.0)),
+                                   has, in_rest);
+                        const bool turned = in_rest.normal_changed;
+                        in_rest.normal = turned ? to_world * in_rest.normal : surface.normal;
+                        in_rest.normal_changed = turned || surface.normal_changed;
+                        surface = in_rest;
+                    }
+                    if (ambiguous) result.ambiguous[i] = 1;
+                    continue;
+                }
                 if (taps.valid) {
                     // each tap blends the decal into the material as it stands before this decal;
                     // the pixel takes their mean under the filter's weights

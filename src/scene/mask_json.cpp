@@ -65,7 +65,10 @@ DecalMask parseMaskJson(const JsonField& v) {
 }
 
 int parseAndInternMask(const JsonField& value, std::vector<DecalMask>& masks) {
-    DecalMask mask = parseMaskJson(value);
+    return internMask(parseMaskJson(value), masks);
+}
+
+int internMask(DecalMask mask, std::vector<DecalMask>& masks) {
     const auto it = std::find(masks.begin(), masks.end(), mask);
     if (it != masks.end()) return int(it - masks.begin());
     masks.push_back(std::move(mask));

@@ -20,5 +20,7 @@ DecalMask parseMaskJson(const JsonField& value);
 // Parses the mask and returns its index in `masks`, appending it only when no identical mask is
 // there yet, so decals with the same mask share one weight plane.
 int parseAndInternMask(const JsonField& value, std::vector<DecalMask>& masks);
+// The index of `mask` in `masks`, appended when no identical mask is there yet.
+int internMask(DecalMask mask, std::vector<DecalMask>& masks);
 
 }  // namespace decalcomp::scene_detail

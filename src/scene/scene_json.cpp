@@ -20,6 +20,7 @@
 #include "scene/mask_json.hpp"
 #include "scene/material_json.hpp"
 #include "scene/placement.hpp"
+#include "scene/texture_space_json.hpp"
 
 namespace decalcomp {
 namespace {
@@ -84,7 +85,9 @@ struct ParsedDecal {
 
 class SceneParser {
 public:
-    explicit SceneParser(std::string file) : file_(std::move(file)), dir_(fs::path(file_).parent_path()) {}
+    explicit SceneParser(std::string file) : file_(std::move(file)), dir_(fs::path(file_).parent_path()) {
+        meshes_.dir = dir_;
+    }
 
     DecalScene load() {
         const json doc = readJsonFile(file_, "scene file");
@@ -102,6 +105,13 @@ public:
 
         DecalScene scene;
         scene.masks = masks_;
+        scene.meshes = std::move(meshes_.meshes);
+        for (const RestMesh& mesh : scene.meshes)
+            if (mesh.overlapping_uv_triangles > 0)
+                scene.warnings.push_back(fmt::format(
+                    "{}: {} of its {} triangles overlap others in UV space: a UV there names two surface points, so "
+                    "texture-space decals may show up twice; give the mesh non-overlapping UVs",
+                    mesh.source, mesh.overlapping_uv_triangles, mesh.triangles.size()));
         scene.warnings = duplicateNameWarnings(decals);
         for (ParsedDecal& p : parsed) {
             auto index = [&](const std::optional<TextureRequest>& r) { return r ? textureIndex(*r, scene) : -1; };
@@ -140,6 +150,7 @@ private:
     // decoded textures by (files, alpha, layout, content, flip) -> texture index
     std::map<std::tuple<std::string, AlphaMode, scene_detail::TextureLayout, TextureContent, bool>, int> loaded_;
     mutable std::vector<DecalMask> masks_;  // distinct masks, filled while parsing decals
+    mutable scene_detail::MeshTable meshes_;  // rest meshes of texture-space decals, each file once
 
     // Unknown top-level keys are descriptive notes (the neutral format has many); only near
     // misspellings of real keys are errors, since "decal" for "decals" must not pass silently.
@@ -259,6 +270,7 @@ private:
         p.priority = j.optionalInteger("priority").value_or(0);
         if (const auto mask = j.optional("mask"))  // identical masks share one entry of DecalScene::masks
             p.decal.mask = scene_detail::parseAndInternMask(*mask, masks_);
+        scene_detail::parseDecalSpace(j, p.decal, meshes_, masks_);
         return p;
     }
 
@@ -289,6 +301,8 @@ private:
         for (const auto& [key, value] : j.members()) {
             if (JsonField::isNoteKey(key) || contains(kDecalNotes, key)) continue;
             if (neutral && contains(kWorldMatrixNotes, key)) continue;
+            if (contains(scene_detail::kTextureSpaceKeys, key) || contains(scene_detail::kTextureSpaceNotes, key))
+                continue;
             if (!contains(kDecalKeys, key)) j.failUnknownKey(key, kDecalKeys);
         }
     }
@@ -311,10 +325,14 @@ private:
     glm::dmat4 placement(const JsonField& j) const {
         const bool hasMatrix = j.has("matrix"), hasWorld = j.has("world_matrix");
         if (hasMatrix && hasWorld) j.fail("give either 'matrix' or 'world_matrix', not both");
+        // The neutral exports restate the matrix's scale beside it (world decals' world_matrix,
+        // rest-pose decals' matrix): a note there, not a second placement.
+        const bool restSpace = j.has("space") && j.required("space").value() == "object_rest";
+        const bool scaleIsNote = hasWorld || (hasMatrix && restSpace);
         std::vector<std::string> groups;  // one representative key per placement style found
         if (hasMatrix || hasWorld) groups.push_back(hasMatrix ? "matrix" : "world_matrix");
         for (const std::string& k : kTrsKeys)
-            if (j.has(k) && !(hasWorld && k == "scale")) {
+            if (j.has(k) && !(scaleIsNote && k == "scale")) {
                 groups.push_back(k);
                 break;
             }

@@ -134,6 +134,7 @@ Command addBatchCommand(CLI::App& app) {
     addMappingOptions(*cmd, r.mapping, flags->channels, flags->depth);
     addBeautyOptions(*cmd, r.beauty);
     addPixelFilterOption(*cmd, r.pixel_filter);
+    addUvOriginOption(*cmd, r.uv_v_down);
     addPassOptions(*cmd, flags->passes);
     return [flags] { run(*flags); };
 }

@@ -61,6 +61,7 @@ Command addCompositeCommand(CLI::App& app) {
     addMappingOptions(*cmd, flags->options.mapping, flags->channels, flags->depth);
     addBeautyOptions(*cmd, flags->options.beauty);
     addPixelFilterOption(*cmd, flags->options.pixel_filter);
+    addUvOriginOption(*cmd, flags->options.uv_v_down);
     addPassOptions(*cmd, flags->passes);
     return [flags] {
         finishMappingOptions(flags->options.mapping, flags->channels, flags->depth);

@@ -27,6 +27,8 @@ void finishMappingOptions(MappingOptions& options, const std::vector<std::string
 
 // --pixel-filter TYPE:WIDTH|none|auto: shared by composite and batch.
 void addPixelFilterOption(CLI::App& command, std::optional<PixelFilter>& filter);
+// --uv-origin auto|bottom|top (texture-space decals): shared by composite and batch.
+void addUvOriginOption(CLI::App& command, std::optional<bool>& uv_v_down);
 
 // --beauty auto|on|off and --relight: shared by composite and batch.
 void addBeautyOptions(CLI::App& command, BeautyOptions& options);

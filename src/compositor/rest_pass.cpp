@@ -1,0 +1,120 @@
+#include "compositor/rest_pass.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+#include <utility>
+
+#include "decalcomp/error.hpp"
+#include "decalcomp/rest_mesh.hpp"
+
+namespace decalcomp {
+
+namespace {
+
+template <typename T>
+cl::Buffer readOnlyBuffer(cl::Context& context, const std::vector<T>& data) {
+    if (data.empty()) return cl::Buffer(context, CL_MEM_READ_ONLY, sizeof(T));
+    return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, data.size() * sizeof(T),
+                      const_cast<T*>(data.data()));
+}
+
+void reserveBytes(cl::Context& context, cl::Buffer& buffer, std::size_t bytes) {
+    bytes = std::max<std::size_t>(bytes, 16);
+    if (buffer() && buffer.getInfo<CL_MEM_SIZE>() >= bytes) return;
+    buffer = cl::Buffer(context, CL_MEM_READ_WRITE, bytes);
+}
+
+}  // namespace
+
+RestMeshBuffers uploadRestMeshes(cl::Context& context, const std::vector<RestMesh>& meshes) {
+    RestMeshBuffers out;
+    if (meshes.empty()) return out;
+    std::vector<cl_float4> vertices;
+    std::vector<cl_int4> triangles;
+    std::vector<cl_int> cells, cell_triangles;
+    for (const RestMesh& mesh : meshes) {
+        if (triangles.size() + mesh.triangles.size() >= (1u << 24))
+            throw inputError(fmt::format("{}: more than 2^24 triangles in the scene's rest meshes", mesh.source));
+        const int first_vertex = int(vertices.size() / 3), first_triangle = int(triangles.size());
+        for (const RestVertex& v : mesh.vertices) {
+            vertices.push_back({{v.position.x, v.position.y, v.position.z, v.uv.x}});
+            vertices.push_back({{v.normal.x, v.normal.y, v.normal.z, v.uv.y}});
+            vertices.push_back({{v.tangent.x, v.tangent.y, v.tangent.z, v.tangent.w}});
+        }
+        for (const glm::ivec3& t : mesh.triangles)
+            triangles.push_back({{t.x + first_vertex, t.y + first_vertex, t.z + first_vertex, 0}});
+        const UvGrid grid = mesh.grid.cell_start.size() >= 2 ? mesh.grid : buildUvGrid(mesh);
+        cl_types::DcRestBinding g{};
+        g.uv_origin[0] = grid.origin.x;
+        g.uv_origin[1] = grid.origin.y;
+        g.cells_per_uv[0] = grid.cells_per_uv.x;
+        g.cells_per_uv[1] = grid.cells_per_uv.y;
+        g.cells_x = grid.cells_x;
+        g.cells_y = grid.cells_y;
+        g.first_cell = int(cells.size());
+        const int first_ref = int(cell_triangles.size());
+        for (int start : grid.cell_start) cells.push_back(start + first_ref);
+        for (int t : grid.triangles) cell_triangles.push_back(t + first_triangle);
+        out.grids.push_back(g);
+    }
+    out.vertices = readOnlyBuffer(context, vertices);
+    out.triangles = readOnlyBuffer(context, triangles);
+    out.cells = readOnlyBuffer(context, cells);
+    out.cell_triangles = readOnlyBuffer(context, cell_triangles);
+    return out;
+}
+
+RestBindings bindRestDecals(const std::vector<Decal>& decals, const RestMeshBuffers& meshes, bool uv_v_down,
+                            std::vector<cl_types::DcDecal>& params) {
+    RestBindings out;
+    std::map<std::pair<int, int>, int> index;  // (mesh, mask) -> binding
+    for (std::size_t k = 0; k < decals.size(); ++k) {
+        const Decal& decal = decals[k];
+        params.at(k).rest_binding = -1;
+        if (decal.space != DecalSpace::ObjectRest) continue;
+        if (decal.rest_mesh < 0 || std::size_t(decal.rest_mesh) >= meshes.grids.size())
+            throw inputError(fmt::format("decal '{}': rest mesh index {} out of range", decal.name, decal.rest_mesh));
+        const auto key = std::make_pair(decal.rest_mesh, decal.mask);
+        auto [it, inserted] = index.emplace(key, int(out.bindings.size()));
+        if (inserted) {
+            cl_types::DcRestBinding b = meshes.grids[std::size_t(decal.rest_mesh)];
+            b.mask = decal.mask;
+            b.flip_v = uv_v_down ? 1 : 0;
+            out.bindings.push_back(b);
+        }
+        params[k].rest_binding = it->second;
+        out.needs_frames |= decalAffects(decal, DecalTarget::Normal) || decal.angle_fade_deg[1] > 0.0;
+    }
+    return out;
+}
+
+void enqueueRestPass(cl::Context& context, cl::CommandQueue& queue, CompositorKernels& kernels,
+                     const RestMeshBuffers& meshes, const RestBindings& rest, const GBuffer& frame,
+                     const cl::Buffer& frame_params, const cl::Buffer& depth, const cl::Buffer& position,
+                     const cl::Buffer& surface1, const cl::Buffer& masks, RestPassBuffers& buffers) {
+    const std::size_t pixels = frame.pixelCount(), count = rest.bindings.size();
+    reserveBytes(context, buffers.bindings, count * sizeof(cl_types::DcRestBinding));
+    reserveBytes(context, buffers.uv, pixels * sizeof(cl_float2));
+    reserveBytes(context, buffers.points, std::max<std::size_t>(count, 1) * pixels * sizeof(cl_float4));
+    reserveBytes(context, buffers.frames, std::max<std::size_t>(count, 1) * pixels * sizeof(cl_float4));
+    if (count == 0) return;
+    const auto uv = frame.planes.find(Attribute::UV);
+    if (uv == frame.planes.end() || uv->second.components != 2 || uv->second.samples.size() != pixels * 2)
+        throw inputError("texture-space decals need the frame's UV pass (u, v per pixel)");
+    queue.enqueueWriteBuffer(buffers.bindings, CL_FALSE, 0, count * sizeof(cl_types::DcRestBinding),
+                             rest.bindings.data());
+    queue.enqueueWriteBuffer(buffers.uv, CL_FALSE, 0, pixels * sizeof(cl_float2), uv->second.samples.data());
+    const cl::NDRange range(std::size_t(frame.width), std::size_t(frame.height));
+    for (std::size_t b = 0; b < count; ++b)
+        kernels.rest_lookup(cl::EnqueueArgs(queue, range), frame_params, buffers.bindings, cl_int(b), buffers.uv, masks,
+                            meshes.vertices, meshes.triangles, meshes.cells, meshes.cell_triangles, buffers.points,
+                            buffers.frames);
+    if (!rest.needs_frames) return;
+    for (std::size_t b = 0; b < count; ++b)
+        kernels.rest_frame(cl::EnqueueArgs(queue, range), frame_params, cl_int(b), depth, position, surface1,
+                           meshes.vertices, meshes.triangles, buffers.points, buffers.frames);
+}
+
+}  // namespace decalcomp
