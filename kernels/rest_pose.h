@@ -25,7 +25,8 @@ DC_INLINE DcSurface dc_apply_rest_decal(__constant const DcFrame* frame, __globa
                                         __global const DcTexture* textures, __global const float4* texels,
                                         DcSurface s, const int variant, int* applied) {
     const size_t pixels = (size_t)frame->width * frame->height;
-    __global const float4* points = rest_points + (size_t)d->rest_binding * pixels;
+    const size_t plane = (size_t)d->rest_binding * pixels;
+    __global const float4* points = rest_points + plane;
     const size_t i = (size_t)y * frame->width + x;
     const float4 r = points[i];
     if (!(r.w > 0.0f)) return s; /* not the object, or no triangle holds the pixel's UV */
@@ -43,7 +44,7 @@ DC_INLINE DcSurface dc_apply_rest_decal(__constant const DcFrame* frame, __globa
             footprint = 1;
         }
     }
-    const float4 q = frame->rest_frames ? rest_frames[(size_t)d->rest_binding * pixels + i] : (float4)(0, 0, 0, 1);
+    const float4 q = frame->rest_frames ? rest_frames[plane + i] : (float4)(0, 0, 0, 1);
     const float3 rest_normal = dc_quat_rotate_inverse(q, normal);
     const DcLookup lk = dc_decal_lookup(d, p, rest_normal, has_normal && frame->rest_frames, p_dx, p_dy, footprint);
     if (!(lk.fade > 0.0f)) return s;

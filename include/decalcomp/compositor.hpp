@@ -23,7 +23,8 @@ struct CompositeStats {
     // Device time from profiling events, milliseconds.
     double tile_bounds_ms = 0, binning_ms = 0, shading_ms = 0;
     double occlusion_ms = 0;  // building blast occlusion maps (0 when no decal occludes)
-    double totalKernelMs() const { return tile_bounds_ms + binning_ms + shading_ms + occlusion_ms; }
+    double rest_ms = 0;       // texture-space decals' rest pass (0 without them)
+    double totalKernelMs() const { return tile_bounds_ms + binning_ms + shading_ms + occlusion_ms + rest_ms; }
 };
 
 // What the binning produced for the last frame, for tests and `--stats`.

@@ -370,8 +370,9 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                                         &totals_read);
             }
 
-            enqueueRestPass(context, queue, k, s.rest_meshes, rest, frame, s.frame_buffer, depth, position,
-                            s.surface[1].device(), s.masks.device(), s.rest_pass);
+            const std::vector<cl::Event> e_rest =
+                enqueueRestPass(context, queue, k, s.rest_meshes, rest, frame, s.frame_buffer, depth, position,
+                                s.surface[1].device(), s.masks.device(), s.rest_pass);
             cl::Event e_occlusion;
             const cl::Buffer occlusion_maps =
                 buildOcclusionMaps(context, queue, k, occlusion, s.frame_buffer, depth, position, s.decal_buffer,
@@ -385,13 +386,18 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             });
             CompositorKernels::Shade& shade =
                 k.shade[std::size_t((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0))];
-            // Binned, one work-group per screen tile: its work-items walk the same decal list.
+            // Binned, one work-group per screen tile: its work-items walk the same decal list. Unbinned
+            // the same groups: PoCL keeps a work-group's private variables on its thread's stack, and
+            // the groups it picks itself for a whole frame (40 x 78) overflowed it.
             const cl::EnqueueArgs shade_range =
                 binned ? cl::EnqueueArgs(queue,
                                          cl::NDRange(std::size_t(params.tiles_x) * DC_TILE_SIZE,
                                                      std::size_t(params.tiles_y) * DC_TILE_SIZE),
                                          cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE))
-                       : cl::EnqueueArgs(queue, cl::NDRange(std::size_t(frame.width), std::size_t(frame.height)));
+                       : cl::EnqueueArgs(queue,
+                                         cl::NDRange(roundUp(std::size_t(frame.width), DC_TILE_SIZE),
+                                                     roundUp(std::size_t(frame.height), DC_TILE_SIZE)),
+                                         cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE));
             const cl::Event e_shade = shade(
                 shade_range,
                 s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(), s.surface[2].device(),
@@ -452,6 +458,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             if (s.profiling) {
                 stats.shading_ms = eventMs(e_shade);
                 if (!occlusion.occluders.empty()) stats.occlusion_ms = eventMs(e_occlusion);
+                for (const cl::Event& e : e_rest) stats.rest_ms += eventMs(e);
                 if (binned) {
                     stats.tile_bounds_ms = eventMs(e_tiles);
                     stats.binning_ms = eventMs(e_bounds) + eventMs(e_cdepth) + eventMs(e_cmask) + eventMs(e_ccount) +

@@ -90,7 +90,7 @@ RestBindings bindRestDecals(const std::vector<Decal>& decals, const RestMeshBuff
     return out;
 }
 
-void enqueueRestPass(cl::Context& context, cl::CommandQueue& queue, CompositorKernels& kernels,
+std::vector<cl::Event> enqueueRestPass(cl::Context& context, cl::CommandQueue& queue, CompositorKernels& kernels,
                      const RestMeshBuffers& meshes, const RestBindings& rest, const GBuffer& frame,
                      const cl::Buffer& frame_params, const cl::Buffer& depth, const cl::Buffer& position,
                      const cl::Buffer& surface1, const cl::Buffer& masks, RestPassBuffers& buffers) {
@@ -99,22 +99,28 @@ void enqueueRestPass(cl::Context& context, cl::CommandQueue& queue, CompositorKe
     reserveBytes(context, buffers.uv, pixels * sizeof(cl_float2));
     reserveBytes(context, buffers.points, std::max<std::size_t>(count, 1) * pixels * sizeof(cl_float4));
     reserveBytes(context, buffers.frames, std::max<std::size_t>(count, 1) * pixels * sizeof(cl_float4));
-    if (count == 0) return;
+    std::vector<cl::Event> events;
+    if (count == 0) return events;
     const auto uv = frame.planes.find(Attribute::UV);
     if (uv == frame.planes.end() || uv->second.components != 2 || uv->second.samples.size() != pixels * 2)
         throw inputError("texture-space decals need the frame's UV pass (u, v per pixel)");
     queue.enqueueWriteBuffer(buffers.bindings, CL_FALSE, 0, count * sizeof(cl_types::DcRestBinding),
                              rest.bindings.data());
     queue.enqueueWriteBuffer(buffers.uv, CL_FALSE, 0, pixels * sizeof(cl_float2), uv->second.samples.data());
-    const cl::NDRange range(std::size_t(frame.width), std::size_t(frame.height));
+    // 16 x 16 groups over the frame rounded up (the kernels skip pixels beyond it): PoCL's own
+    // choice for a whole frame keeps too many work-items' variables on one thread's stack.
+    auto roundUp = [](int n) { return (std::size_t(n) + 15) / 16 * 16; };
+    const cl::NDRange range(roundUp(frame.width), roundUp(frame.height)), group(16, 16);
     for (std::size_t b = 0; b < count; ++b)
-        kernels.rest_lookup(cl::EnqueueArgs(queue, range), frame_params, buffers.bindings, cl_int(b), buffers.uv, masks,
-                            meshes.vertices, meshes.triangles, meshes.cells, meshes.cell_triangles, buffers.points,
-                            buffers.frames);
-    if (!rest.needs_frames) return;
+        events.push_back(kernels.rest_lookup(cl::EnqueueArgs(queue, range, group), frame_params, buffers.bindings, cl_int(b),
+                                             buffers.uv, masks, meshes.vertices, meshes.triangles, meshes.cells,
+                                             meshes.cell_triangles, buffers.points, buffers.frames));
+    if (!rest.needs_frames) return events;
     for (std::size_t b = 0; b < count; ++b)
-        kernels.rest_frame(cl::EnqueueArgs(queue, range), frame_params, cl_int(b), depth, position, surface1,
-                           meshes.vertices, meshes.triangles, buffers.points, buffers.frames);
+        events.push_back(kernels.rest_frame(cl::EnqueueArgs(queue, range, group), frame_params, cl_int(b), depth, position,
+                                            surface1, meshes.vertices, meshes.triangles, buffers.points,
+                                            buffers.frames));
+    return events;
 }
 
 }  // namespace decalcomp

@@ -36,8 +36,8 @@ struct RestPassBuffers {
     cl::Buffer bindings, uv, points, frames;
 };
 // Enqueues the rest pass (after the frame's planes and masks are on their way): uploads the UV
-// plane, then per binding the lookup and, when needed, the rotations. Returns the last event.
-void enqueueRestPass(cl::Context& context, cl::CommandQueue& queue, CompositorKernels& kernels,
+// plane, then per binding the lookup and, when needed, the rotations. Returns the kernels' events.
+std::vector<cl::Event> enqueueRestPass(cl::Context& context, cl::CommandQueue& queue, CompositorKernels& kernels,
                      const RestMeshBuffers& meshes, const RestBindings& rest, const GBuffer& frame,
                      const cl::Buffer& frame_params, const cl::Buffer& depth, const cl::Buffer& position,
                      const cl::Buffer& surface1, const cl::Buffer& masks, RestPassBuffers& buffers);

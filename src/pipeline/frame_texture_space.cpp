@@ -16,7 +16,7 @@ namespace {
 
 // How many of a binding's object pixels land on its mesh, reading v as stored and flipped.
 struct UvHits {
-    std::size_t object = 0, as_stored = 0, flipped = 0;
+    std::size_t object = 0, sampled = 0, as_stored = 0, flipped = 0;
 };
 
 // Up to ~4096 of the object's pixels, evenly strided: enough to tell the two readings apart.
@@ -33,6 +33,7 @@ UvHits countHits(const RestMesh& mesh, int mask, const GBuffer& gbuffer) {
     hits.object = object.size();
     const std::size_t stride = std::max<std::size_t>(1, object.size() / 4096);
     for (std::size_t k = 0; k < object.size(); k += stride) {
+        ++hits.sampled;
         const glm::vec2 p(uv.at(object[k], 0), uv.at(object[k], 1));
         hits.as_stored += findRestPoint(mesh, p).has_value();
         hits.flipped += findRestPoint(mesh, glm::vec2(p.x, 1.0f - p.y)).has_value();
@@ -65,15 +66,19 @@ void settleTextureSpace(const DecalScene& scene, const std::vector<Decal>& decal
     for (const auto& [key, users] : bindings) {
         const UvHits h = countHits(scene.meshes.at(std::size_t(key.first)), key.second, gbuffer);
         hits[key] = h;
+        total.sampled += h.sampled;
         total.as_stored += h.as_stored;
         total.flipped += h.flipped;
     }
     if (uv_v_down) {
         gbuffer.uv_v_down = *uv_v_down;
     } else {
-        // v runs bottom-up in OBJ and in every renderer profile; a UV pass that lands on the mesh
-        // far more often flipped was written top-down.
-        gbuffer.uv_v_down = total.flipped > 2 * total.as_stored + 8;
+        // v runs bottom-up in OBJ and in every renderer profile. A pass read the right way puts
+        // (nearly) every object pixel on its mesh; one that lands clearly more often flipped, and
+        // then almost always, was written top-down. Layouts that fill the UV square both ways
+        // cannot tell, and stay as stored.
+        gbuffer.uv_v_down = 10 * total.flipped >= 9 * total.sampled &&
+                            total.flipped > total.as_stored + std::max<std::size_t>(8, total.sampled / 20);
         if (gbuffer.uv_v_down)
             warnings.push_back(fmt::format(
                 "{}: UV pass: its v runs top-down against the rest meshes' bottom-up UVs ({} sampled object pixels land "

@@ -106,13 +106,14 @@ public:
         DecalScene scene;
         scene.masks = masks_;
         scene.meshes = std::move(meshes_.meshes);
+
+        scene.warnings = duplicateNameWarnings(decals);
         for (const RestMesh& mesh : scene.meshes)
             if (mesh.overlapping_uv_triangles > 0)
                 scene.warnings.push_back(fmt::format(
                     "{}: {} of its {} triangles overlap others in UV space: a UV there names two surface points, so "
                     "texture-space decals may show up twice; give the mesh non-overlapping UVs",
                     mesh.source, mesh.overlapping_uv_triangles, mesh.triangles.size()));
-        scene.warnings = duplicateNameWarnings(decals);
         for (ParsedDecal& p : parsed) {
             auto index = [&](const std::optional<TextureRequest>& r) { return r ? textureIndex(*r, scene) : -1; };
             p.decal.albedo_texture = index(p.texture.albedo);

@@ -23,6 +23,7 @@
 #include "decalcomp/error.hpp"
 #include "decalcomp/synth.hpp"
 #include "decalcomp/synth_light.hpp"
+#include "texture_space.hpp"
 #include "transfers.hpp"
 
 namespace {
@@ -299,6 +300,10 @@ int main(int argc, char** argv) {
     app.add_option("--pixel-filter", opt.pixel_filter,
                    "integrate decals over this pixel filter (TYPE:WIDTH, e.g. blackman-harris:3; default none); the "
                    "frames then keep their normal pass, as renders with a filter have one");
+    bool texture_space = false;
+    app.add_flag("--texture-space", texture_space,
+                 "instead: a texture-space box decal on a 102,400-triangle tube against the same box in the world "
+                 "(same pixels), at the first --sizes entry");
     bool no_transfers = false;
     app.add_flag("--no-transfers", no_transfers, "skip measuring the transfer and bandwidth floors");
     bool list = false;
@@ -347,6 +352,10 @@ int main(int argc, char** argv) {
         fmt::print(info, "program build: {:.0f} ms\n\n",
                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - build0).count());
 
+        if (texture_space) {
+            bench::benchTextureSpace(compositor, sizes.front().width, sizes.front().height, opt.repeat, info);
+            return 0;
+        }
         const synth::Scene scene = synth::demoScene();
         std::vector<Result> results;
         for (const FrameSize& size : sizes) {

@@ -1,0 +1,240 @@
+// Texture-space decals on analytic deforming meshes (synth_mesh.hpp): the kernels against the
+// scalar reference on PoCL, and decals that stay on the surface while it twists and bends.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "decalcomp/compositor.hpp"
+#include "decalcomp/reference.hpp"
+#include "decalcomp/rest_mesh.hpp"
+#include "decalcomp/synth.hpp"
+#include "decalcomp/synth_mesh.hpp"
+#include "support/random_scenes.hpp"
+#include "support/test_support.hpp"
+
+namespace decalcomp {
+namespace {
+
+using test::cpuDevice;
+
+constexpr int kWidth = 200, kHeight = 150;
+
+Camera tubeCamera() {
+    Camera camera;
+    camera.world_to_camera = lookAt({5.0, -1.0, 1.6}, {0.6, 0.0, 1.0}, {0, 0, 1});
+    camera.projection = perspectiveProjection(0.75, double(kWidth) / kHeight, 0.1, 100.0);
+    return camera;
+}
+
+struct Pose {
+    double twist_deg, bend_deg;
+};
+const Pose kPoses[] = {{0.0, 0.0}, {45.0, 30.0}, {-80.0, 55.0}};
+
+// The tube (object 1) and a twin with the same UVs beside it (object 2), in one pose.
+synth::MeshFrame renderPose(const RestMesh& tube, Pose pose) {
+    std::vector<synth::PosedMesh> meshes(2);
+    meshes[0] = {&tube, synth::twistAndBend(tube, pose.twist_deg, pose.bend_deg), 1, glm::vec3(0.6f, 0.5f, 0.4f)};
+    meshes[1] = {&tube, synth::twistAndBend(tube, -pose.twist_deg, 0.0), 2, glm::vec3(0.3f, 0.5f, 0.6f)};
+    for (glm::vec3& p : meshes[1].positions) p += glm::vec3(-0.4f, 1.4f, 0.0f);
+    return synth::renderMeshes(meshes, tubeCamera(), kWidth, kHeight);
+}
+
+// Object 1's pixels as the frame's only mask plane (the scene's masks[0] = ids {1}).
+void maskObjectOne(GBuffer& g) {
+    Plane mask;
+    mask.components = 1;
+    mask.samples.assign(g.pixelCount(), 0.0f);
+    for (std::size_t i = 0; i < g.pixelCount(); ++i) mask.samples[i] = g.planes.at(Attribute::ObjectId).at(i, 0) == 1.0f;
+    g.mask_weights = {mask};
+}
+
+// The pose rendered, object 1 masked, and composited by `compositor` (its scene set).
+struct Composited {
+    synth::MeshFrame input;
+    GBuffer output;
+};
+Composited compositePose(Compositor& compositor, const RestMesh& tube, Pose pose) {
+    Composited c{renderPose(tube, pose), {}};
+    maskObjectOne(c.input.gbuffer);
+    c.output = c.input.gbuffer;
+    compositor.composite(c.output, tubeCamera());
+    return c;
+}
+
+Decal restDecal(DecalKind kind, const glm::dmat4& placement, int texture) {
+    Decal d;
+    d.name = "rest";
+    d.kind = kind;
+    d.space = DecalSpace::ObjectRest;
+    d.rest_mesh = 0;
+    d.mask = 0;
+    d.world_matrix = placement;
+    d.albedo_texture = texture;
+    d.filter = TextureFilter::Nearest;
+    return d;
+}
+
+// A box facing +X across the seam (angle 0, +X) and a frustum projector, both on the tube's rest pose;
+// `materials` adds a normal map with an angle fade on a second box.
+DecalScene tubeScene(const RestMesh& tube, bool materials) {
+    DecalScene scene;
+    scene.meshes = {tube};
+    DecalMask mask;
+    mask.include_ids = {1};
+    scene.masks = {mask};
+    std::mt19937 rng(7);
+    scene.textures.push_back(synth::proceduralTexture(0, 16, 3));
+    scene.textures.push_back(test::randomTexture(8, 8, 1, rng));
+    // box: local Z along +X (through the surface at x = 0.5), 0.7 x 0.9 on the surface
+    glm::dmat4 box(0.0);
+    box[0] = glm::dvec4(0, 0.7, 0, 0);  // local X -> object +Y (around the tube)
+    box[1] = glm::dvec4(0, 0, 0.9, 0);  // local Y -> object +Z (up the tube)
+    box[2] = glm::dvec4(0.6, 0, 0, 0);  // local Z -> object +X
+    box[3] = glm::dvec4(0.5, 0.0, 1.0, 1);
+    scene.decals.push_back(restDecal(DecalKind::Box, box, 0));
+    Decal projector = restDecal(DecalKind::Frustum, lookAt({2.0, -1.0, 1.5}, {0.3, -0.3, 1.3}, {0, 0, 1}), 1);
+    projector.world_matrix = glm::inverse(projector.world_matrix);  // lookAt gives world -> local
+    projector.fov_y_deg = 25.0;
+    projector.near = 0.1;
+    projector.far = 5.0;
+    projector.filter = TextureFilter::Linear;
+    projector.opacity = 0.8f;
+    scene.decals.push_back(projector);
+    if (materials) {
+        scene.textures.push_back(test::randomTexture(8, 8, 1, rng));  // a normal map (data)
+        glm::dmat4 upper = box;
+        upper[3] = glm::dvec4(0.45, 0.2, 1.6, 1);
+        Decal bump = restDecal(DecalKind::Box, upper, -1);
+        bump.normal_texture = 2;
+        bump.effect(DecalTarget::Albedo).factor = 0.0f;
+        bump.angle_fade_deg = {30.0, 80.0};
+        scene.decals.push_back(bump);
+    }
+    return scene;
+}
+
+TEST(TextureSpace, RestLookupFindsEveryVisiblePixelOfTheTube) {
+    const RestMesh tube = synth::tubeMesh(48, 24);
+    EXPECT_EQ(tube.overlapping_uv_triangles, 0);
+    for (const Pose& pose : kPoses) {
+        const synth::MeshFrame f = renderPose(tube, pose);
+        std::size_t pixels = 0;
+        double worst = 0;
+        for (std::size_t i = 0; i < f.object.size(); ++i) {
+            if (f.object[i] < 0) continue;
+            ++pixels;
+            const Plane& uv = f.gbuffer.planes.at(Attribute::UV);
+            const auto hit = findRestPoint(tube, glm::vec2(uv.at(i, 0), uv.at(i, 1)));
+            ASSERT_TRUE(hit) << "pixel " << i << " (the seam is no gap)";
+            worst = std::max(worst, glm::length(glm::dvec3(hit->position) - *f.rest_points[i]));
+        }
+        EXPECT_GT(pixels, 3000u);
+        EXPECT_LT(worst, 1e-5) << "twist " << pose.twist_deg;
+    }
+}
+
+TEST(TextureSpace, KernelMatchesReferenceOnDeformingTube) {
+    const RestMesh tube = synth::tubeMesh(48, 24);
+    for (bool materials : {false, true}) {
+        const DecalScene scene = tubeScene(tube, materials);
+        Compositor compositor(cpuDevice());
+        compositor.setScene(scene);
+        for (const Pose& pose : kPoses) {
+            const auto [f, out] = compositePose(compositor, tube, pose);
+            const reference::ShadeResult ref = reference::shade(f.gbuffer, tubeCamera(), scene);
+            const test::Comparison c = test::compareWithReference(f.gbuffer, out, ref, 2e-4);
+            EXPECT_EQ(c.mismatched, 0u) << "max error " << c.max_error << ", twist " << pose.twist_deg;
+            EXPECT_GT(c.changed, 400u) << "the decals reach the tube";
+            EXPECT_LT(c.ambiguous, c.compared / 20);
+            if (!materials) continue;
+            // normals turned by the rest decal's map: the kernel's rotation agrees with the reference's
+            std::size_t turned = 0;
+            double worst = 0;
+            const Plane &n_in = f.gbuffer.planes.at(Attribute::Normal), &n_out = out.planes.at(Attribute::Normal),
+                        &n_ref = ref.planes.at(Attribute::Normal);
+            for (std::size_t i = 0; i < f.gbuffer.pixelCount(); ++i) {
+                if (ref.ambiguous[i]) continue;
+                double moved = 0, error = 0;
+                for (int k = 0; k < 3; ++k) {
+                    moved += std::abs(n_ref.at(i, k) - n_in.at(i, k));
+                    error = std::max(error, double(std::abs(n_out.at(i, k) - n_ref.at(i, k))));
+                }
+                if (moved > 1e-3) ++turned;
+                worst = std::max(worst, error);
+            }
+            EXPECT_GT(turned, 200u) << "the normal map turns normals, twist " << pose.twist_deg;
+            EXPECT_LT(worst, 2e-3) << "twist " << pose.twist_deg;
+        }
+    }
+}
+
+// The decal sticks: on every pose each tube pixel shows the texel of its exact rest point, and the
+// twin tube (same UVs, another object) is untouched.
+TEST(TextureSpace, DecalStaysFixedOnTheSurfaceWhileItDeforms) {
+    const RestMesh tube = synth::tubeMesh(48, 24);
+    DecalScene scene = tubeScene(tube, false);
+    scene.decals.resize(1);  // the opaque-textured box alone
+    const glm::dmat4 to_local = glm::inverse(scene.decals[0].world_matrix);
+    const Texture2D& texture = scene.textures[0];
+    Compositor compositor(cpuDevice());
+    compositor.setScene(scene);
+    for (const Pose& pose : kPoses) {
+        const auto [f, out] = compositePose(compositor, tube, pose);
+        std::size_t checked = 0, inside = 0;
+        const Plane &before = f.gbuffer.planes.at(Attribute::Albedo), &after = out.planes.at(Attribute::Albedo);
+        for (std::size_t i = 0; i < f.object.size(); ++i) {
+            if (f.object[i] == 1) {
+                for (int k = 0; k < 3; ++k) ASSERT_EQ(before.at(i, k), after.at(i, k)) << "twin tube pixel " << i;
+                continue;
+            }
+            if (f.object[i] != 0) continue;
+            const glm::dvec3 l(to_local * glm::dvec4(*f.rest_points[i], 1.0));
+            const double edge = 0.5 - std::max({std::abs(l.x), std::abs(l.y), std::abs(l.z)});
+            const double s = (l.x + 0.5) * texture.width, t = (0.5 - l.y) * texture.height;
+            const double texel_edge = std::min(std::abs(s - std::round(s)), std::abs(t - std::round(t)));
+            if (std::abs(edge) < 1e-3 || texel_edge < 1e-2) continue;  // float rounding may pick either side
+            glm::dvec3 expected(before.at(i, 0), before.at(i, 1), before.at(i, 2));
+            if (edge > 0) {
+                const glm::dvec4 texel = reference::sampleTexture(texture, l.x + 0.5, 0.5 - l.y, TextureFilter::Nearest);
+                expected = expected * (1.0 - texel.a) + glm::dvec3(texel);
+                ++inside;
+            }
+            for (int k = 0; k < 3; ++k) ASSERT_NEAR(after.at(i, k), expected[k], 1e-4) << "pixel " << i;
+            ++checked;
+        }
+        EXPECT_GT(checked, 2000u) << "twist " << pose.twist_deg;
+        EXPECT_GT(inside, 300u) << "twist " << pose.twist_deg << ": pixels under the decal";
+    }
+}
+
+TEST(TextureSpace, BinnedEqualsUnbinned) {
+    const RestMesh tube = synth::tubeMesh(48, 24);
+    const DecalScene scene = tubeScene(tube, true);
+    synth::MeshFrame f = renderPose(tube, kPoses[2]);
+    maskObjectOne(f.gbuffer);
+    Compositor compositor(cpuDevice());
+    compositor.setScene(scene);
+    GBuffer binned = f.gbuffer, unbinned = f.gbuffer;
+    compositor.composite(binned, tubeCamera());
+    compositor.composite(unbinned, tubeCamera(), CompositeOptions{false});
+    EXPECT_EQ(binned.planes.at(Attribute::Albedo).samples, unbinned.planes.at(Attribute::Albedo).samples);
+    EXPECT_EQ(binned.planes.at(Attribute::Normal).samples, unbinned.planes.at(Attribute::Normal).samples);
+}
+
+TEST(TextureSpace, FrameWithoutUvPassIsAnError) {
+    const RestMesh tube = synth::tubeMesh(8, 4);
+    const DecalScene scene = tubeScene(tube, false);
+    synth::MeshFrame f = renderPose(tube, kPoses[0]);
+    maskObjectOne(f.gbuffer);
+    f.gbuffer.planes.erase(Attribute::UV);
+    Compositor compositor(cpuDevice());
+    compositor.setScene(scene);
+    EXPECT_NE(test::errorMessage(ErrorKind::Input, [&] { compositor.composite(f.gbuffer, tubeCamera()); })
+                  .find("UV pass"),
+              std::string::npos);
+}
+
+}  // namespace
+}  // namespace decalcomp
