@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include "compositor/beauty_transfer.hpp"
+#include "compositor/device_buffers.hpp"
 #include "compositor/kernel_params.hpp"
 #include "compositor/kernels.hpp"
 #include "compositor/occlusion_maps.hpp"
@@ -24,27 +25,10 @@ namespace {
 
 constexpr int kBinGroupSize = 64;  // work-items per group in the binning kernels (any size works)
 
-std::size_t roundUp(std::size_t n, std::size_t multiple) { return (n + multiple - 1) / multiple * multiple; }
-
 double eventMs(const cl::Event& e) {
     const auto start = e.getProfilingInfo<CL_PROFILING_COMMAND_START>();
     const auto end = e.getProfilingInfo<CL_PROFILING_COMMAND_END>();
     return double(end - start) * 1e-6;
-}
-
-// A device buffer of at least `bytes`, grown (never shrunk) as frames need.
-void reserve(cl::Context& context, cl::Buffer& buffer, std::size_t bytes) {
-    bytes = std::max<std::size_t>(bytes, 16);
-    if (buffer() && buffer.getInfo<CL_MEM_SIZE>() >= bytes) return;
-    buffer = cl::Buffer(context, CL_MEM_READ_WRITE, bytes);
-}
-
-// A read-only buffer holding `data` (OpenCL refuses zero-sized buffers).
-template <typename T>
-cl::Buffer makeBuffer(cl::Context& context, const std::vector<T>& data) {
-    if (data.empty()) return cl::Buffer(context, CL_MEM_READ_ONLY, sizeof(T));
-    return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, data.size() * sizeof(T),
-                      const_cast<T*>(data.data()));
 }
 
 // Copies of floats [first, last) spread over the host's cores: packing is pure memory traffic.

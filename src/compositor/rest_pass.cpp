@@ -1,5 +1,7 @@
 #include "compositor/rest_pass.hpp"
 
+#include "compositor/device_buffers.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -10,23 +12,6 @@
 #include "decalcomp/rest_mesh.hpp"
 
 namespace decalcomp {
-
-namespace {
-
-template <typename T>
-cl::Buffer readOnlyBuffer(cl::Context& context, const std::vector<T>& data) {
-    if (data.empty()) return cl::Buffer(context, CL_MEM_READ_ONLY, sizeof(T));
-    return cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, data.size() * sizeof(T),
-                      const_cast<T*>(data.data()));
-}
-
-void reserveBytes(cl::Context& context, cl::Buffer& buffer, std::size_t bytes) {
-    bytes = std::max<std::size_t>(bytes, 16);
-    if (buffer() && buffer.getInfo<CL_MEM_SIZE>() >= bytes) return;
-    buffer = cl::Buffer(context, CL_MEM_READ_WRITE, bytes);
-}
-
-}  // namespace
 
 RestMeshBuffers uploadRestMeshes(cl::Context& context, const std::vector<RestMesh>& meshes) {
     RestMeshBuffers out;
@@ -59,10 +44,10 @@ RestMeshBuffers uploadRestMeshes(cl::Context& context, const std::vector<RestMes
         for (int t : grid.triangles) cell_triangles.push_back(t + first_triangle);
         out.grids.push_back(g);
     }
-    out.vertices = readOnlyBuffer(context, vertices);
-    out.triangles = readOnlyBuffer(context, triangles);
-    out.cells = readOnlyBuffer(context, cells);
-    out.cell_triangles = readOnlyBuffer(context, cell_triangles);
+    out.vertices = makeBuffer(context, vertices);
+    out.triangles = makeBuffer(context, triangles);
+    out.cells = makeBuffer(context, cells);
+    out.cell_triangles = makeBuffer(context, cell_triangles);
     return out;
 }
 
@@ -95,10 +80,12 @@ std::vector<cl::Event> enqueueRestPass(cl::Context& context, cl::CommandQueue& q
                      const cl::Buffer& frame_params, const cl::Buffer& depth, const cl::Buffer& position,
                      const cl::Buffer& surface1, const cl::Buffer& masks, RestPassBuffers& buffers) {
     const std::size_t pixels = frame.pixelCount(), count = rest.bindings.size();
-    reserveBytes(context, buffers.bindings, count * sizeof(cl_types::DcRestBinding));
-    reserveBytes(context, buffers.uv, pixels * sizeof(cl_float2));
-    reserveBytes(context, buffers.points, std::max<std::size_t>(count, 1) * pixels * sizeof(cl_float4));
-    reserveBytes(context, buffers.frames, std::max<std::size_t>(count, 1) * pixels * sizeof(cl_float4));
+    // Frames without texture-space decals bind placeholders: the shading kernel never reads them.
+    const std::size_t planes = count > 0 ? pixels : 0;
+    reserve(context, buffers.bindings, count * sizeof(cl_types::DcRestBinding));
+    reserve(context, buffers.uv, planes * sizeof(cl_float2));
+    reserve(context, buffers.points, count * planes * sizeof(cl_float4));
+    reserve(context, buffers.frames, count * planes * sizeof(cl_float4));
     std::vector<cl::Event> events;
     if (count == 0) return events;
     const auto uv = frame.planes.find(Attribute::UV);
@@ -107,10 +94,10 @@ std::vector<cl::Event> enqueueRestPass(cl::Context& context, cl::CommandQueue& q
     queue.enqueueWriteBuffer(buffers.bindings, CL_FALSE, 0, count * sizeof(cl_types::DcRestBinding),
                              rest.bindings.data());
     queue.enqueueWriteBuffer(buffers.uv, CL_FALSE, 0, pixels * sizeof(cl_float2), uv->second.samples.data());
-    // 16 x 16 groups over the frame rounded up (the kernels skip pixels beyond it): PoCL's own
+    // Tile-sized groups over the frame rounded up (the kernels skip pixels beyond it): PoCL's own
     // choice for a whole frame keeps too many work-items' variables on one thread's stack.
-    auto roundUp = [](int n) { return (std::size_t(n) + 15) / 16 * 16; };
-    const cl::NDRange range(roundUp(frame.width), roundUp(frame.height)), group(16, 16);
+    const cl::NDRange range(roundUp(std::size_t(frame.width), DC_TILE_SIZE), roundUp(std::size_t(frame.height), DC_TILE_SIZE));
+    const cl::NDRange group(DC_TILE_SIZE, DC_TILE_SIZE);
     for (std::size_t b = 0; b < count; ++b)
         events.push_back(kernels.rest_lookup(cl::EnqueueArgs(queue, range, group), frame_params, buffers.bindings, cl_int(b),
                                              buffers.uv, masks, meshes.vertices, meshes.triangles, meshes.cells,

@@ -23,6 +23,7 @@
 #include "decalcomp/error.hpp"
 #include "decalcomp/synth.hpp"
 #include "decalcomp/synth_light.hpp"
+#include "median.hpp"
 #include "texture_space.hpp"
 #include "transfers.hpp"
 
@@ -52,12 +53,7 @@ FrameSize parseSize(const std::string& text) {
     throw Error(ErrorKind::Usage, fmt::format("--sizes: '{}' is not WIDTHxHEIGHT", text));
 }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+using bench::median;
 
 struct Result {
     FrameSize size;

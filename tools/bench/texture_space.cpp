@@ -1,5 +1,7 @@
 #include "texture_space.hpp"
 
+#include "median.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -17,11 +19,6 @@ struct Timing {
     double kernel_ms = 0, rest_ms = 0, shading_ms = 0, wall_ms = 0;
     std::size_t changed = 0;  // albedo pixels the decal changed
 };
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 Timing time(Compositor& compositor, const DecalScene& scene, const GBuffer& frame, const Camera& camera, int repeat) {
     compositor.setScene(scene);
