@@ -5,7 +5,9 @@
 set -eu
 cd "$(dirname "$0")/.."
 sh tools/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDECALCOMP_WERROR=ON
+# No debug info in CI's build: the same optimised code, a third less compile and link time.
+cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -DNDEBUG" \
+  -DDECALCOMP_WERROR=ON
 cmake --build build -j"$(nproc)"
 (cd build && ctest --output-on-failure -j"$(nproc)" "$@")
 if [ "${DECALCOMP_SANITIZE_STAGE:-1}" != 0 ]; then

@@ -186,6 +186,16 @@ void checkFrame(const GBuffer& frame, std::size_t mask_count) {
             throw inputError("decal masks: a weight plane does not match the frame size");
 }
 
+// Waits for whatever the queue still holds before an error unwinds the frame: a non-blocking
+// transfer in flight reads or writes host memory (the totals, the parameters) that the caller may
+// free next.
+void finishQuietly(cl::CommandQueue& queue) noexcept {
+    try {
+        queue.finish();
+    } catch (...) {  // the error already on its way says more than a second one would
+    }
+}
+
 }  // namespace
 
 CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const CompositeOptions& options,
@@ -201,6 +211,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     s.decal_params = makeDecalParams(s.scene, camera, s.texture_entries);
     const OcclusionLayout occlusion = layoutOcclusionMaps(s.scene.decals, s.decal_params);
     const RestBindings rest = bindRestDecals(s.scene.decals, s.rest_meshes, frame.uv_v_down, s.decal_params);
+    checkRestPassInputs(rest, frame);
     s.frame_params = makeFrameParams(frame, camera, int(s.decal_params.size()));
     cl_types::DcFrame& params = s.frame_params;
     // Normals are read for angle fades, mip footprints, occlusion slopes, normal maps and the
@@ -458,7 +469,11 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         s.tiles_x = params.tiles_x;
         s.tiles_y = params.tiles_y;
     } catch (const cl::Error& e) {
+        finishQuietly(queue);
         throw deviceError(fmt::format("{}: {} failed: {}", device_.info().name, e.what(), clErrorName(e.err())));
+    } catch (...) {
+        finishQuietly(queue);
+        throw;
     }
     return stats;
 }

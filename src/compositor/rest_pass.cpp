@@ -75,6 +75,13 @@ RestBindings bindRestDecals(const std::vector<Decal>& decals, const RestMeshBuff
     return out;
 }
 
+void checkRestPassInputs(const RestBindings& rest, const GBuffer& frame) {
+    if (rest.bindings.empty()) return;
+    const auto uv = frame.planes.find(Attribute::UV);
+    if (uv == frame.planes.end() || uv->second.components != 2 || uv->second.samples.size() != frame.pixelCount() * 2)
+        throw inputError("texture-space decals need the frame's UV pass (u, v per pixel)");
+}
+
 std::vector<cl::Event> enqueueRestPass(cl::Context& context, cl::CommandQueue& queue, CompositorKernels& kernels,
                      const RestMeshBuffers& meshes, const RestBindings& rest, const GBuffer& frame,
                      const cl::Buffer& frame_params, const cl::Buffer& depth, const cl::Buffer& position,
@@ -88,9 +95,8 @@ std::vector<cl::Event> enqueueRestPass(cl::Context& context, cl::CommandQueue& q
     reserve(context, buffers.frames, count * planes * sizeof(cl_float4));
     std::vector<cl::Event> events;
     if (count == 0) return events;
+    checkRestPassInputs(rest, frame);
     const auto uv = frame.planes.find(Attribute::UV);
-    if (uv == frame.planes.end() || uv->second.components != 2 || uv->second.samples.size() != pixels * 2)
-        throw inputError("texture-space decals need the frame's UV pass (u, v per pixel)");
     queue.enqueueWriteBuffer(buffers.bindings, CL_FALSE, 0, count * sizeof(cl_types::DcRestBinding),
                              rest.bindings.data());
     queue.enqueueWriteBuffer(buffers.uv, CL_FALSE, 0, pixels * sizeof(cl_float2), uv->second.samples.data());

@@ -31,6 +31,10 @@ struct RestBindings {
 RestBindings bindRestDecals(const std::vector<Decal>& decals, const RestMeshBuffers& meshes, bool uv_v_down,
                             std::vector<cl_types::DcDecal>& params);
 
+// Throws Error(Input) when texture-space decals meet a frame without a (u, v) UV pass. The
+// compositor checks before it enqueues anything, so a refused frame leaves no transfer in flight.
+void checkRestPassInputs(const RestBindings& rest, const GBuffer& frame);
+
 // Device memory of one frame's rest pass, grown on demand.
 struct RestPassBuffers {
     cl::Buffer bindings, uv, points, frames;
