@@ -32,6 +32,7 @@ struct BatchRequest {
     std::optional<PixelFilter> pixel_filter;  // --pixel-filter (FrameOptions::pixel_filter)
     std::optional<bool> uv_v_down;            // --uv-origin (FrameOptions::uv_v_down)
     bool overwrite_input = false;
+    bool force = false;  // composite frames that already hold this scene (FrameTargets::force)
     bool resume = false;      // skip frames whose output exists (complete: writes are atomic)
     bool keep_going = false;  // a failed frame does not stop the batch
     std::optional<Shard> shard;      // explicit --shard; wins over the environment

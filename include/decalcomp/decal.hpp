@@ -145,6 +145,9 @@ struct Decal {
 
 struct DecalScene {
     std::string source;  // the scene file it was loaded from ("" when built in code)
+    // The scene's identity in the outputs' provenance (provenance.hpp): a hash of its JSON,
+    // whitespace and key order aside ("" when built in code).
+    std::string fingerprint;
     std::vector<Texture2D> textures;
     std::vector<Decal> decals;  // in blend order
     std::vector<DecalMask> masks;  // distinct masks the decals refer to

@@ -4,6 +4,7 @@
 #include <OpenEXR/ImfHeader.h>
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,9 @@ struct ExrImage {
     // readExr leaves it false (callers may edit bytes directly); Frame sets it, --add-channels
     // clears it (a new channel changes every chunk).
     bool copy_unchanged_chunks = false;
+    // String attributes every part's header gets on write, replacing any of the same name (the
+    // provenance, provenance.hpp). A file no chunk of which changed is still copied byte for byte.
+    std::map<std::string, std::string> added_attributes;
 };
 
 // Reads scanline or tiled, single- or multi-part files. Deep parts are refused.

@@ -18,6 +18,7 @@
 #include "decalcomp/frame_beauty.hpp"
 #include "decalcomp/normal_check.hpp"
 #include "decalcomp/pixel_filter.hpp"
+#include "decalcomp/provenance.hpp"
 #include "decalcomp/sequence_conventions.hpp"
 
 namespace decalcomp {
@@ -36,6 +37,9 @@ struct FrameTargets {
     std::string output;   // EXR to write, or a folder where each changed file keeps its name
     std::string preview;  // optional PNG: albedo (and lit normals) before | after
     bool overwrite_input = false;
+    // Composite a scene the inputs' headers say was already composited into them (provenance.hpp);
+    // without it prepare() refuses, since every decal would be stacked twice.
+    bool force = false;
 };
 
 struct FrameOptions {
@@ -107,6 +111,9 @@ private:
     std::vector<Decal> frameDecals(const DecalScene& scene) const;
     // The chunks read(scene) decodes (everything when that cannot be known before the pixels).
     ExrReadRegion readRegion(const DecalScene& scene) const;
+    // Refuses (Error(Usage)) a scene an output's input already holds unless FrameTargets::force;
+    // keeps the record each output will carry (provenance.hpp).
+    void recordProvenance(const DecalScene& scene);
     // How messages name this frame: FrameOptions::label, else the first input.
     const std::string& label() const { return options_.label.empty() ? sources_.inputs.front() : options_.label; }
 
@@ -124,6 +131,7 @@ private:
     std::optional<GBuffer> before_;  // for the preview
     Camera camera_;
     FrameBeauty beauty_;
+    std::map<int, ProvenanceRecord> provenance_;  // per output file: what writeBack() records in its header
     FrameReport report_;
 };
 

@@ -35,4 +35,9 @@ void evaluateMasks(const std::vector<ExrImage>& files, const ChannelMapping& map
 void evaluateMasks(const ExrImage& image, const ChannelMapping& mapping, const DecalScene& scene, GBuffer& frame,
                    std::vector<std::string>* warnings);
 
+// Planes without files (the Python module's arrays): object-id masks from the frame's ObjectId
+// plane. Throws Error(Input) naming `label` when a mask needs Cryptomatte (only files carry its
+// manifest and ranks) or ids without an ObjectId plane.
+void evaluateIdMasks(const DecalScene& scene, GBuffer& frame, const std::string& label);
+
 }  // namespace decalcomp

@@ -2,6 +2,7 @@
 // Shards: one machine's part of a frame range, explicit or from a Slurm job array (docs/farm.md).
 #include <functional>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace decalcomp {

@@ -334,7 +334,7 @@ Job Pipeline::readFrame(std::size_t index) {
         sources.camera = s_.cameras.explicitCamera(job.frame);
         sources.camera_file = s_.cameras.cameraFile(job.frame);
         FrameTargets targets{job.output, request.preview.empty() ? "" : pathAt(request.preview, job.frame),
-                             request.overwrite_input};
+                             request.overwrite_input, request.force};
         FrameOptions frame_options = s_.options;
         frame_options.frame_number = double(job.frame);
         job.work = std::make_unique<Frame>(std::move(sources), std::move(targets), std::move(frame_options));

@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 
 #include <cstdint>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "decalcomp/error.hpp"
@@ -48,7 +50,8 @@ bool hasLongNames(const CoreContext& in, int parts) {
     return false;
 }
 
-void declareParts(const CoreContext& in, const CoreContext& out, int parts) {
+void declareParts(const CoreContext& in, const CoreContext& out, int parts,
+                  const std::map<std::string, std::string>& added_attributes) {
     if (hasLongNames(in, parts)) out.require(exr_set_longname_support(out.context(), 1), 0, "long names");
     for (int p = 0; p < parts; ++p) {
         const char* name = nullptr;
@@ -57,6 +60,9 @@ void declareParts(const CoreContext& in, const CoreContext& out, int parts) {
         in.require(exr_get_storage(in.context(), p, &storage), p, "type");
         int index = 0;
         out.require(exr_add_part(out.context(), name, storage, &index), p, "part");
+        // Set first: copying fills in only the attributes not set yet, so these replace the input's.
+        for (const auto& [attribute, value] : added_attributes)
+            out.require(exr_attr_set_string(out.context(), index, attribute.c_str(), value.c_str()), p, attribute.c_str());
         out.require(exr_copy_unset_attributes(out.context(), index, in.context(), p), p, "attributes");
     }
     out.require(exr_write_header(out.context()), 0, "header");
@@ -144,7 +150,7 @@ ChunkWriteStats writeCopyingUnchangedChunks(const ExrImage& image, const std::st
         throw outputError(fmt::format("{}: the input {} has {} parts where {} were read; was it replaced while this "
                                       "ran?",
                                       target, image.path, parts, image.parts.size()));
-    declareParts(in, out, parts);
+    declareParts(in, out, parts, image.added_attributes);
     ChunkWriteStats stats;
     for (int p = 0; p < parts; ++p) writePart(in, out, image.parts[std::size_t(p)], p, stats);
     out.finish();

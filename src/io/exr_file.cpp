@@ -5,6 +5,7 @@
 #include <OpenEXR/ImfMultiPartOutputFile.h>
 #include <OpenEXR/ImfOutputPart.h>
 #include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfTiledInputPart.h>
 #include <OpenEXR/ImfTiledOutputPart.h>
 #include <OpenEXR/ImfVersion.h>
@@ -191,6 +192,7 @@ void writeParts(const ExrImage& image, const std::string& path) {
         // Single-part files may omit "type"; MultiPartOutputFile insists on it, and it is harmless.
         if (!headers.back().hasType())
             headers.back().setType(part.header.hasTileDescription() ? Imf::TILEDIMAGE : Imf::SCANLINEIMAGE);
+        for (const auto& [name, value] : image.added_attributes) headers.back().insert(name, Imf::StringAttribute(value));
     }
     // Scoped so the file is closed (and complete) before the rename.
     Imf::MultiPartOutputFile file(path.c_str(), headers.data(), int(headers.size()));

@@ -449,4 +449,25 @@ void evaluateMasks(const ExrImage& image, const ChannelMapping& mapping, const D
     evaluateMasks(std::vector<ExrImage>{image}, mapping, scene, frame, warnings);
 }
 
+void evaluateIdMasks(const DecalScene& scene, GBuffer& frame, const std::string& label) {
+    frame.mask_weights.clear();
+    for (int m = 0; m < int(scene.masks.size()); ++m) {
+        const DecalMask& mask = scene.masks[std::size_t(m)];
+        if (!mask.cryptomatte_layer.empty())
+            throw inputError(fmt::format("{}: {} masks by Cryptomatte layer {}, which needs the EXR's Cryptomatte channels "
+                                         "and manifest: composite the files instead of planes",
+                                         label, decalsUsing(scene, m), mask.cryptomatte_layer));
+        Plane plane{1, std::vector<float>(frame.pixelCount(), 1.0f)};
+        if (!mask.include_ids.empty() || !mask.exclude_ids.empty()) {
+            const auto ids = frame.planes.find(Attribute::ObjectId);
+            if (ids == frame.planes.end() || ids->second.components != 1)
+                throw inputError(fmt::format("{}: {} masks by object id (mask.ids / mask.exclude_ids) but there is "
+                                             "no single-component object_id plane",
+                                             label, decalsUsing(scene, m)));
+            applyIdMask(mask, ids->second, plane.samples);
+        }
+        frame.mask_weights.push_back(std::move(plane));
+    }
+}
+
 }  // namespace decalcomp

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/frame_region.hpp"
@@ -92,6 +94,7 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
     report_.warnings.insert(report_.warnings.end(), mapping.warnings.begin(), mapping.warnings.end());
     report_.warnings.insert(report_.warnings.end(), scene.warnings.begin(), scene.warnings.end());
     outputs_ = outputPaths(files_, mapping, attributes_, targets_.output);
+    recordProvenance(scene);
     RunFiles run;
     for (const auto& [file, path] : outputs_) run.exr_outputs.push_back(path);
     run.preview = targets_.preview;
@@ -153,6 +156,24 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
     prepared_ = true;
 }
 
+void Frame::recordProvenance(const DecalScene& scene) {
+    provenance_.clear();
+    if (decals_.empty()) return;  // written as read
+    for (const auto& [file, path] : outputs_) {
+        const ExrImage& image = files_[std::size_t(file)];
+        const auto previous = readProvenance(image.parts.front().header, image.path);
+        const bool again = previous && !scene.fingerprint.empty() &&
+                           std::find(previous->scenes.begin(), previous->scenes.end(), scene.fingerprint) !=
+                               previous->scenes.end();
+        if (again && !targets_.force)
+            throw Error(ErrorKind::Usage,
+                        fmt::format("{}: already composited with this scene ({} {}, decalcomp/scenes in its header); "
+                                    "compositing it again stacks every decal twice: --force does it anyway",
+                                    image.path, scene.source, scene.fingerprint));
+        provenance_[file] = composeProvenance(scene, decals_, previous);
+    }
+}
+
 void Frame::composite(Compositor& compositor) {
     if (!prepared_) throw Error(ErrorKind::Usage, "Frame::composite before Frame::prepare");
     if (decals_.empty()) return;  // nothing alive on this frame: the output is the input
@@ -177,7 +198,11 @@ const std::vector<std::string>& Frame::writeBack() {
     if (!prepared_) throw Error(ErrorKind::Usage, "Frame::writeBack before Frame::prepare");
     std::vector<PendingOutput> pending;
     const bool folder = isOutputFolder(targets_.output);
-    for (const auto& [file, path] : outputs_) pending.push_back({&files_[std::size_t(file)], path, folder});
+    for (const auto& [file, path] : outputs_) {
+        const auto record = provenance_.find(file);
+        if (record != provenance_.end()) files_[std::size_t(file)].added_attributes = provenanceAttributes(record->second);
+        pending.push_back({&files_[std::size_t(file)], path, folder});
+    }
     const GBuffer& before = before_ ? *before_ : gbuffer_;
     const ChunkWriteStats chunks = writeOutputsTogether(
         pending, targets_.preview.empty() ? nullptr : &targets_.preview,

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "decalcomp/provenance.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/json_fields.hpp"
 #include "decalcomp/scene.hpp"
@@ -85,12 +86,10 @@ struct ParsedDecal {
 
 class SceneParser {
 public:
-    explicit SceneParser(std::string file) : file_(std::move(file)), dir_(fs::path(file_).parent_path()) {
-        meshes_.dir = dir_;
-    }
+    // `file` names the scene in messages; relative texture and mesh paths resolve against `dir`.
+    SceneParser(std::string file, fs::path dir) : file_(std::move(file)), dir_(std::move(dir)) { meshes_.dir = dir_; }
 
-    DecalScene load() {
-        const json doc = readJsonFile(file_, "scene file");
+    DecalScene load(const json& doc) {
         const JsonField root(doc, file_);
         root.requireObject("a JSON object with a 'decals' array");
         checkTopLevelKeys(root);
@@ -445,8 +444,18 @@ private:
 }  // namespace
 
 DecalScene loadScene(const std::string& path) {
-    DecalScene scene = SceneParser(path).load();
+    const json doc = readJsonFile(path, "scene file");
+    DecalScene scene = SceneParser(path, fs::path(path).parent_path()).load(doc);
     scene.source = path;
+    scene.fingerprint = sceneFingerprint(doc.dump());
+    return scene;
+}
+
+DecalScene parseScene(const std::string& json_text, const std::string& label, const std::string& base_dir) {
+    const json doc = parseJsonText(json_text, label);
+    DecalScene scene = SceneParser(label, base_dir).load(doc);
+    scene.source = label;
+    scene.fingerprint = sceneFingerprint(doc.dump());
     return scene;
 }
 

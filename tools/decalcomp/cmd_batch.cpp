@@ -123,6 +123,7 @@ Command addBatchCommand(CLI::App& app) {
     cmd->add_flag("--io-only", r.io_only, "Read and write every frame without compositing (measures the I/O)");
     cmd->add_flag("--list-frames", flags->list_frames, "Print the frames this run (shard) would process, and exit");
     cmd->add_flag("--overwrite-input", r.overwrite_input, "Allow outputs to replace their inputs");
+    cmd->add_flag("--force", r.force, "Composite frames whose header says this scene is already in them");
     cmd->add_flag("--unbinned", [&r](std::int64_t) { r.binned = false; }, "Test every decal at every pixel (debugging)");
     cmd->add_option("--progress", flags->progress, "auto (bar on a terminal, else lines), bar, lines, none")
         ->check(CLI::IsMember({"auto", "bar", "lines", "none"}))

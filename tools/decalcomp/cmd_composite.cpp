@@ -52,6 +52,7 @@ Command addCompositeCommand(CLI::App& app) {
     cmd->add_option("--preview", flags->targets.preview, "Also write a PNG: input albedo | composited albedo");
     cmd->add_option("--device", flags->device, "OpenCL device: index, gpu, cpu or part of its name (default: GPU, else CPU)");
     cmd->add_flag("--overwrite-input", flags->targets.overwrite_input, "Allow the output to replace the input file");
+    cmd->add_flag("--force", flags->targets.force, "Composite even when the input's header says this scene is already in it");
     CompositeOptions& compositing = flags->options.compositing;
     cmd->add_flag("--unbinned", [&compositing](std::int64_t) { compositing.binned = false; }, "Test every decal at every pixel (debugging)");
     cmd->add_flag("-q,--quiet", flags->quiet, "Print nothing on success");

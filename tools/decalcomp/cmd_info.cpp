@@ -1,9 +1,11 @@
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <iostream>
 #include <optional>
 
 #include "commands.hpp"
+#include "decalcomp/provenance.hpp"
 #include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_file.hpp"
@@ -52,6 +54,14 @@ void printFile(const ExrImage& image) {
                                  windowText(dw), dw == display ? "" : " (display window " + windowText(display) + ")",
                                  part.channels.size());
         for (const ExrChannel& c : part.channels) std::cout << fmt::format("  {} ({})\n", c.qualified, typeName(c.type));
+    }
+    if (const auto record = readProvenance(image.parts.front().header, image.path)) {
+        std::cout << fmt::format("composited by decalcomp {} with {} ({}): {} decal(s){}{}\n", record->version,
+                                 record->scene_file.empty() ? "a scene built in code" : record->scene_file, record->scene,
+                                 record->decals.size(), record->decals.empty() ? "" : ": ",
+                                 fmt::join(record->decals, ", "));
+        if (record->scenes.size() > 1)
+            std::cout << fmt::format("  scenes composited into it, oldest first: {}\n", fmt::join(record->scenes, ", "));
     }
 }
 

@@ -1,0 +1,127 @@
+// decalcomp.batch(): a sequence through the library's batch (decalcomp/batch.hpp), the loop
+// `decalcomp batch` runs, with an optional per-frame progress callback.
+#include <fmt/format.h>
+#include <pybind11/functional.h>
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "decalcomp/batch.hpp"
+#include "decalcomp/error.hpp"
+
+namespace decalcomp::python {
+
+namespace {
+
+const char* statusName(FrameStatus status) {
+    switch (status) {
+        case FrameStatus::Written: return "written";
+        case FrameStatus::Skipped: return "skipped";
+        case FrameStatus::Failed: return "failed";
+    }
+    return "failed";
+}
+
+py::dict frameResultDict(const FrameResult& r) {
+    py::dict d;
+    d["frame"] = r.frame;
+    d["status"] = statusName(r.status);
+    d["output"] = r.output;
+    d["message"] = r.message;
+    return d;
+}
+
+// Calls progress(frame_result_dict) on runBatch's thread, holding the GIL only for the call.
+class ProgressCallback : public BatchObserver {
+public:
+    explicit ProgressCallback(py::object callback) : callback_(std::move(callback)) {}
+    ~ProgressCallback() override {
+        py::gil_scoped_acquire acquire;
+        callback_ = py::object();
+    }
+    void frameFinished(const FrameResult& result, const BatchProgress&) override {
+        py::gil_scoped_acquire acquire;
+        callback_(frameResultDict(result));  // an exception raised here stops the batch
+    }
+
+private:
+    py::object callback_;
+};
+
+py::dict batch(const std::string& input, const std::string& output, const std::string& scene, const py::kwargs& kwargs) {
+    rejectUnknown(kwargs,
+                  {"extra_inputs", "passes", "preview", "frames", "camera", "cameras", "device", "overwrite_input", "force",
+                   "resume", "keep_going", "shard", "threads", "queue", "workers", "progress", "profile",
+                   "profile_files", "layer", "channels", "depth", "reversed_z", "normals", "add_channels",
+                   "pixel_filter", "binned"},
+                  "batch");
+    BatchRequest r;
+    r.input = input;
+    r.output = output;
+    r.scene = scene;
+    auto text = [&](const char* key, std::string& into) {
+        if (kwargs.contains(key) && !kwargs[key].is_none()) into = kwargs[key].cast<std::string>();
+    };
+    auto flag = [&](const char* key, bool& into) {
+        if (kwargs.contains(key)) into = kwargs[key].cast<bool>();
+    };
+    auto number = [&](const char* key, int& into) {
+        if (kwargs.contains(key) && !kwargs[key].is_none()) into = kwargs[key].cast<int>();
+    };
+    text("preview", r.preview);
+    text("frames", r.frames);
+    text("camera", r.camera);
+    text("cameras", r.cameras);
+    text("device", r.device);
+    flag("overwrite_input", r.overwrite_input);
+    flag("force", r.force);
+    flag("resume", r.resume);
+    flag("keep_going", r.keep_going);
+    flag("binned", r.binned);
+    number("threads", r.exr_threads);
+    number("queue", r.queue_depth);
+    number("workers", r.composite_workers);
+    if (kwargs.contains("extra_inputs")) r.extra_inputs = kwargs["extra_inputs"].cast<std::vector<std::string>>();
+    r.pass_files = passFiles(kwargs.contains("passes") ? py::reinterpret_borrow<py::object>(kwargs["passes"]) : py::none());
+    if (kwargs.contains("shard") && !kwargs["shard"].is_none()) r.shard = parseShard(kwargs["shard"].cast<std::string>());
+    r.shard_from_environment = false;  // a script decides its own shard (shard="I/N")
+    r.mapping = mappingOptions(kwargs);
+    if (kwargs.contains("pixel_filter") && !kwargs["pixel_filter"].is_none())
+        r.pixel_filter = parsePixelFilter(kwargs["pixel_filter"].cast<std::string>(), "pixel_filter");
+
+    std::unique_ptr<ProgressCallback> progress;
+    if (kwargs.contains("progress") && !kwargs["progress"].is_none())
+        progress = std::make_unique<ProgressCallback>(py::reinterpret_borrow<py::object>(kwargs["progress"]));
+    BatchReport report;
+    {
+        py::gil_scoped_release release;
+        report = runBatch(r, progress.get());
+        progress.reset();
+    }
+    py::dict d;
+    d["frames"] = report.plan.frames;
+    d["written"] = report.progress.written;
+    d["skipped"] = report.progress.skipped;
+    d["failed"] = report.progress.failed;
+    d["elapsed_s"] = report.progress.elapsed_s;
+    d["devices"] = report.devices;
+    d["camera_source"] = report.camera_source;
+    d["warnings"] = report.warnings;
+    py::list failures;
+    for (const FrameResult& f : report.failures) failures.append(frameResultDict(f));
+    d["failures"] = failures;
+    d["chunks_copied"] = report.chunks.copied;
+    d["chunks_reencoded"] = report.chunks.reencoded;
+    return d;
+}
+
+}  // namespace
+
+void bindBatch(py::module_& m) {
+    m.def("batch", &batch, py::arg("input"), py::arg("output"), py::arg("scene"),
+          "Composites `scene` (a JSON path) into every frame of the `input` pattern (frame.####.exr), "
+          "writing `output` (a pattern or a folder), as `decalcomp batch` does. Keyword arguments are the "
+          "CLI's flags (frames='1-48', passes={'depth': 'Z.####.exr'}, keep_going=True, progress=callable...). "
+          "Returns the report as a dict; without keep_going the first failing frame raises.");
+}
+
+}  // namespace decalcomp::python

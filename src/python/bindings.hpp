@@ -1,0 +1,39 @@
+#pragma once
+// The Python module's parts (docs/python.md): each file binds one concept.
+#include <pybind11/pybind11.h>
+
+#include <map>
+#include <string>
+
+#include "decalcomp/camera.hpp"
+#include "decalcomp/channel_mapping.hpp"
+#include "decalcomp/compositor.hpp"
+#include "decalcomp/frame.hpp"
+
+namespace decalcomp::python {
+
+namespace py = pybind11;
+
+void bindErrors(py::module_& m);      // decalcomp.Error and its kinds
+void bindDevices(py::module_& m);     // devices(), Device
+void bindScene(py::module_& m);       // Scene, Camera
+void bindCompositor(py::module_& m);  // Compositor: arrays and files
+void bindBatch(py::module_& m);       // batch()
+
+// A Camera, a (world_to_camera, projection) pair of 4x4 arrays, or a camera JSON path.
+Camera cameraFrom(const py::object& value);
+
+// Reports as dicts of plain Python values (report.cpp).
+py::dict statsDict(const CompositeStats& stats);
+py::dict frameReportDict(const FrameReport& report);
+
+// Keyword arguments shared by files and batches, as the CLI's mapping flags: profile,
+// profile_files, layer, channels {attr: [channel...] or "a,b,c"}, depth, reversed_z,
+// normals "world|camera[,signed|packed]", add_channels {attr: value}. Throws Error(Usage).
+MappingOptions mappingOptions(const py::kwargs& kwargs);
+// {attr: path} -> Attribute-keyed paths (--pass). Throws Error(Usage) for unknown attributes.
+std::map<Attribute, std::string> passFiles(const py::object& passes);
+// Keyword arguments no binding consumed: a TypeError naming them, as Python does.
+void rejectUnknown(const py::kwargs& kwargs, std::initializer_list<const char*> known, const char* function);
+
+}  // namespace decalcomp::python
