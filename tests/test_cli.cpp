@@ -1,6 +1,7 @@
 // The command line: bad inputs exit non-zero with a one-line message naming the file and field,
 // and leave no output (nor temporary) file behind.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -121,14 +122,15 @@ TEST(Cli, NoCameraAnywhere) {
 }
 
 TEST(Cli, UnwritableOutputLeavesNothing) {
-    test::ScratchDir dir;
-    const std::string out = dir.file("missing_dir/out.exr");
+    test::ScratchDir dir;  // a file where the output's folder should be (missing folders are created)
+    std::ofstream(dir.file("blocker")) << "not a folder";
+    const std::string out = dir.file("blocker/out.exr");
     const auto r = test::runCli("composite " + blender("gbuffer.exr") + " --decals " + blender("scene.json") +
                                 " --camera " + blender("camera.json") + " --device cpu -o " + shellQuote(out));
     EXPECT_EQ(r.exit_code, 5) << r.output;
-    EXPECT_NE(r.output.find("missing_dir/out.exr"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("blocker/out.exr"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(out));
-    EXPECT_EQ(filesIn(dir.path()), 0u);
+    EXPECT_EQ(filesIn(dir.path()), 1u) << "only the blocker";
 }
 
 TEST(Cli, RefusesToOverwriteInput) {
@@ -181,6 +183,60 @@ TEST(Cli, InfoReportsProfileCameraAndDepth) {
     for (const char* needle : {"profile: blender", "ViewLayer.Depth.Z", "depth convention: planar", "world_to_camera",
                                "camera.json (perspective)"})
         EXPECT_NE(r.output.find(needle), std::string::npos) << needle << "\n" << r.output;
+}
+
+TEST(Cli, InfoListsCryptomatteLayersWithTheirNames) {
+    const auto r = test::runCli("info " + blender("gbuffer.exr"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("cryptomatte: 2 layer(s)"), std::string::npos) << r.output;
+    // The object layer's manifest, as Cycles wrote it, names sorted.
+    EXPECT_NE(r.output.find("  ViewLayer.CryptoObject (" + test::dataPath("blender/gbuffer.exr") +
+                            ", key 542cafa, MurmurHash3_32, manifest in the header): 5 name(s): Barrel, Box, Floor, "
+                            "Sphere, Wall\n"),
+              std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("  ViewLayer.CryptoMaterial ("), std::string::npos) << r.output;
+    const auto plain = test::runCli("info " + shellQuote(test::dataPath("sample/gbuffer.exr")));
+    ASSERT_EQ(plain.exit_code, 0) << plain.output;
+    EXPECT_EQ(plain.output.find("cryptomatte:"), std::string::npos) << plain.output;
+}
+
+TEST(Cli, InfoJsonHoldsWhatTheTextShows) {
+    const auto r = test::runCli("info " + blender("gbuffer.exr") + " --camera " + blender("camera.json") + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json doc = nlohmann::json::parse(r.output);  // nothing but the document on stdout
+    ASSERT_EQ(doc["files"].size(), 1u);
+    EXPECT_EQ(doc["files"][0]["path"], test::dataPath("blender/gbuffer.exr"));
+    EXPECT_TRUE(doc["files"][0]["provenance"].is_null());
+    EXPECT_EQ(doc["profile"], "blender");
+    EXPECT_EQ(doc["attributes"]["albedo"]["channels"],
+              (std::vector<std::string>{"ViewLayer.DiffCol.R", "ViewLayer.DiffCol.G", "ViewLayer.DiffCol.B"}));
+    ASSERT_EQ(doc["cryptomatte"].size(), 2u);
+    EXPECT_EQ(doc["cryptomatte"][0]["names"], (std::vector<std::string>{"Barrel", "Box", "Floor", "Sphere", "Wall"}));
+    EXPECT_EQ(doc["cryptomatte"][0]["manifest"], "header");
+    // The camera's matrices are the sidecar's, in its row-major layout.
+    std::ifstream sidecar_file(test::dataPath("blender/camera.json"));
+    const nlohmann::json sidecar = nlohmann::json::parse(sidecar_file);
+    for (const char* key : {"world_to_camera", "projection"})
+        for (int row = 0; row < 4; ++row)
+            for (int col = 0; col < 4; ++col)
+                EXPECT_NEAR(doc["camera"][key][row][col].get<double>(), sidecar[key][row][col].get<double>(), 1e-12)
+                    << key << "[" << row << "][" << col << "]";
+    EXPECT_EQ(doc["depth_convention"], "planar");
+    EXPECT_TRUE(doc["depth_check"].is_string());
+    EXPECT_TRUE(doc["beauty"].is_array());
+}
+
+TEST(Cli, InfoPrintsTheMappingOnceAndOffersOnlyWhatItUses) {
+    const auto r = test::runCli("info " + shellQuote(test::dataPath("sample/gbuffer.exr")));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(test::occurrences(r.output, "<- Z"), 1u) << r.output;
+    EXPECT_EQ(test::occurrences(r.output, "<- albedo.R, albedo.G, albedo.B"), 1u) << r.output;
+    // info writes nothing, so it has no --add-channels.
+    const auto added = test::runCli("info " + shellQuote(test::dataPath("sample/gbuffer.exr")) + " --add-channels ao");
+    EXPECT_EQ(added.exit_code, 2) << added.output;
+    EXPECT_NE(added.output.find("--add-channels"), std::string::npos) << added.output;
+    EXPECT_EQ(test::runCli("info --help").output.find("--add-channels"), std::string::npos);
 }
 
 }  // namespace

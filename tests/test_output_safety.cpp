@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "support/batch_fixture.hpp"
 #include "support/test_support.hpp"
@@ -103,6 +104,32 @@ TEST(OutputSafety, BatchPreviewPatternNamingTheInputsIsRefused) {
     EXPECT_NE(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("the preview would replace the input"), std::string::npos) << r.output;
     EXPECT_TRUE(test::readFileBytes(FramePattern(input).path(1)) == before);
+}
+
+}  // namespace
+}  // namespace decalcomp
+
+namespace decalcomp {
+namespace {
+
+TEST(OutputFolders, CompositeCreatesMissingFoldersForTheOutputAndThePreview) {
+    Sample s;
+    const std::string out = s.dir.file("shots/a/b/out.exr"), preview = s.dir.file("previews/p/out.png");
+    const auto r = test::runCli(s.composite("-o " + shellQuote(out) + " --preview " + shellQuote(preview)));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_GT(fs::file_size(out), 0u);
+    EXPECT_GT(fs::file_size(preview), 0u);
+}
+
+TEST(OutputFolders, AFailedWriteTakesBackTheFoldersItMade) {
+    Sample s;
+    std::ofstream(s.dir.file("blocker")) << "a file where a folder should be";
+    const std::string preview = s.dir.file("previews/p/out.png");
+    const auto r = test::runCli(s.composite("-o " + shellQuote(s.dir.file("blocker/out.exr")) + " --preview " +
+                                            shellQuote(preview)));
+    EXPECT_NE(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("blocker/out.exr"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(s.dir.file("previews"))) << r.output;
 }
 
 }  // namespace

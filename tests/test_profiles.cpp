@@ -2,6 +2,8 @@
 // and every renderer naming of the generator read back into the same G-buffer.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <OpenEXR/ImfStringAttribute.h>
 
 #include <cmath>
@@ -242,6 +244,35 @@ TEST(Profiles, UserProfileReplacesABuiltinOfTheSameName) {
     const ChannelMapping m = mapChannels(image, options);
     EXPECT_EQ(m.profile, "generic");
     EXPECT_EQ(mapped(image, m, Attribute::Depth), Names{"zz"});
+}
+
+// A user profile written for these files wins even when a built-in finds more names: generic
+// reads Z, an old diffuse pass as albedo, N, roughness and metallic here (score 12) where the
+// studio's two-attribute profile scores 8, and generic's albedo would be the wrong pass.
+TEST(Profiles, SmallerUserProfileThatFitsWinsOverGeneric) {
+    ScratchDir dir;
+    const std::string file = writeFile(dir, "paint.json", R"({"name": "paint",
+        "attributes": {"depth": ["Z"], "albedo": ["paint.{R,G,B}"]}})");
+    const ExrImage image = imageWithChannels({"Z", "diffuse.R", "diffuse.G", "diffuse.B", "N.X", "N.Y", "N.Z", "roughness", "metallic",
+                                              "paint.R", "paint.G", "paint.B"});
+    MappingOptions options;
+    options.profile_files = {file};
+    const ChannelMapping m = mapChannels(image, options);
+    EXPECT_EQ(m.profile, "paint");
+    EXPECT_EQ(mapped(image, m, Attribute::Albedo), (Names{"paint.R", "paint.G", "paint.B"}));
+    ASSERT_GE(m.candidates.size(), 2u);
+    const auto generic = std::find_if(m.candidates.begin(), m.candidates.end(),
+                                      [](const ProfileCandidate& c) { return c.name == "generic"; });
+    ASSERT_NE(generic, m.candidates.end());
+    EXPECT_GT(generic->score, 8.0) << "generic scores higher, and still loses";
+    EXPECT_TRUE(hasNote(m, "profile paint (auto-detected, a user profile that finds every attribute it names, score 8: "
+                           "depth, albedo)"));
+
+    // One that does not fit (its normal is missing) is scored like any other, and loses.
+    const std::string partial = writeFile(dir, "partial.json", R"({"name": "partial",
+        "attributes": {"depth": ["Z"], "albedo": ["paint.{R,G,B}"], "normal": ["nrm.{x,y,z}"]}})");
+    options.profile_files = {partial};
+    EXPECT_EQ(mapChannels(image, options).profile, "generic");
 }
 
 TEST(Profiles, BadProfileFilesNameTheFieldAndFile) {

@@ -43,6 +43,9 @@ struct ProfileCandidate {
     std::string name;
     double score = 0.0;
     std::vector<std::string> reasons;  // "depth", "albedo", "header BlenderMultiChannel", ...
+    // Every attribute the profile names is found, depth (or position) and albedo among them: a
+    // user profile that fits is chosen ahead of the built-ins (docs/profiles.md, "Detection").
+    bool fits = false;
 };
 
 struct ChannelMapping {

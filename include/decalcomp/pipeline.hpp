@@ -69,11 +69,11 @@ void checkRunFiles(const RunFiles& files, bool overwrite_inputs);
 
 // Writes every image to a temporary beside its path, and the preview
 // through `write_preview` when `preview` is given, then renames them all into place; on any failure
-// every temporary is removed and nothing is replaced.
+// every temporary is removed and nothing is replaced. Missing folders on the way to an output are
+// created (as a batch does), and removed again when the write fails.
 struct PendingOutput {
     const ExrImage* image;
     std::string path;
-    bool create_folder = false;  // create the path's folder when missing (folder outputs)
 };
 // Returns what the EXR writes did with their chunks, summed over the outputs.
 ChunkWriteStats writeOutputsTogether(const std::vector<PendingOutput>& outputs, const std::string* preview,

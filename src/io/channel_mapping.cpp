@@ -5,6 +5,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <optional>
 #include <set>
 
 #include "decalcomp/channel_mapping.hpp"
@@ -164,11 +165,15 @@ ProfileCandidate scoreProfile(const Files& files, const ChannelIndex& index, con
     if (layers.empty()) layers.insert("");
     for (const std::string& layer : layers) {
         ProfileCandidate c{profile.name, 0.0, {}};
+        std::set<Attribute> found;
         for (const auto& [attribute, spellings] : profile.attributes)
             if (findAttribute(index, spellings, layer)) {
                 c.score += attributeDetectionWeight(attribute);
                 c.reasons.push_back(attributeName(attribute));
+                found.insert(attribute);
             }
+        c.fits = found.size() == profile.attributes.size() && found.count(Attribute::Albedo) &&
+                 (found.count(Attribute::Depth) || found.count(Attribute::Position));
         if (!layer.empty() && !c.reasons.empty()) c.reasons.insert(c.reasons.begin(), fmt::format("layer '{}'", layer));
         if (c.score > best.score) best = c;
     }
@@ -195,11 +200,23 @@ const ChannelProfile& chooseProfile(const Files& files, const ChannelIndex& inde
     for (const ChannelProfile& p : profiles) known.push_back(p.name);
     std::size_t chosen = 0;
     if (options.profile == "auto") {
-        for (std::size_t i = 1; i < profiles.size(); ++i)  // ties go to the earlier profile
-            if (mapping.candidates[i].score > mapping.candidates[chosen].score) chosen = i;
+        // A user profile that fits the input wins over the built-ins whatever their scores: it was
+        // written for these files (a smaller one would otherwise lose to generic's many names).
+        std::optional<std::size_t> user;
+        for (std::size_t i = 0; i < profiles.size(); ++i)
+            if (profiles[i].source != "built-in" && mapping.candidates[i].fits &&
+                (!user || mapping.candidates[i].score > mapping.candidates[*user].score))
+                user = i;
+        if (user) {
+            chosen = *user;
+        } else {
+            for (std::size_t i = 1; i < profiles.size(); ++i)  // ties go to the earlier profile
+                if (mapping.candidates[i].score > mapping.candidates[chosen].score) chosen = i;
+        }
         const ProfileCandidate& c = mapping.candidates[chosen];
-        mapping.notes.push_back(fmt::format("profile {} (auto-detected, score {:g}{}{})", c.name, c.score,
-                                            c.reasons.empty() ? "" : ": ", joined(c.reasons)));
+        mapping.notes.push_back(fmt::format("profile {} (auto-detected, {}score {:g}{}{})", c.name,
+                                            user ? "a user profile that finds every attribute it names, " : "",
+                                            c.score, c.reasons.empty() ? "" : ": ", joined(c.reasons)));
     } else {
         const auto it = std::find(known.begin(), known.end(), options.profile);
         if (it == known.end())

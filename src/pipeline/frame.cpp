@@ -197,11 +197,10 @@ void Frame::composite(Compositor& compositor) {
 const std::vector<std::string>& Frame::writeBack() {
     if (!prepared_) throw Error(ErrorKind::Usage, "Frame::writeBack before Frame::prepare");
     std::vector<PendingOutput> pending;
-    const bool folder = isOutputFolder(targets_.output);
     for (const auto& [file, path] : outputs_) {
         const auto record = provenance_.find(file);
         if (record != provenance_.end()) files_[std::size_t(file)].added_attributes = provenanceAttributes(record->second);
-        pending.push_back({&files_[std::size_t(file)], path, folder});
+        pending.push_back({&files_[std::size_t(file)], path});
     }
     const GBuffer& before = before_ ? *before_ : gbuffer_;
     const ChunkWriteStats chunks = writeOutputsTogether(

@@ -111,6 +111,24 @@ void checkRunFiles(const RunFiles& files, bool overwrite_inputs) {
     }
 }
 
+namespace {
+
+// Creates the missing folders above `file`; returns them, outermost first, so a failed write can
+// take back exactly what it made. Error(Output) naming `file` when one cannot be made.
+std::vector<fs::path> createMissingFolders(const std::string& file) {
+    std::vector<fs::path> missing;
+    std::error_code ec;
+    for (fs::path folder = fs::path(file).parent_path(); !folder.empty() && !fs::exists(folder, ec);
+         folder = folder.parent_path())
+        missing.insert(missing.begin(), folder);
+    for (const fs::path& folder : missing)
+        if (!fs::create_directory(folder, ec) && ec)
+            throw outputError(fmt::format("{}: cannot create the folder {}: {}", file, folder.string(), ec.message()));
+    return missing;
+}
+
+}  // namespace
+
 ChunkWriteStats writeOutputsTogether(const std::vector<PendingOutput>& outputs, const std::string* preview,
                                      const std::function<void(const std::string&)>& write_preview) {
     // Everything goes to registered temporaries first (decalcomp/temporary_files.hpp), renamed as one
@@ -118,21 +136,26 @@ ChunkWriteStats writeOutputsTogether(const std::vector<PendingOutput>& outputs, 
     std::vector<std::pair<std::string, std::string>> written;  // temporary, final
     std::string preview_tmp;
     ChunkWriteStats stats;
+    std::vector<fs::path> created;  // folders this write made
+    auto createFoldersFor = [&](const std::string& file) {
+        for (fs::path& folder : createMissingFolders(file)) created.push_back(std::move(folder));
+    };
     try {
         if (preview) {
+            createFoldersFor(*preview);
             preview_tmp = temporaryPathFor(*preview);
             createTemporary(preview_tmp, *preview);
             write_preview(preview_tmp);
         }
         for (const PendingOutput& output : outputs) {
-            const fs::path parent = fs::path(output.path).parent_path();
-            std::error_code ec;
-            if (output.create_folder && !parent.empty()) fs::create_directories(parent, ec);
+            createFoldersFor(output.path);
             written.emplace_back(writeExrTemporary(*output.image, output.path, &stats), output.path);
         }
     } catch (...) {
         for (const auto& [temporary, final_path] : written) discardTemporary(temporary);
         if (!preview_tmp.empty()) discardTemporary(preview_tmp);
+        std::error_code ec;
+        for (auto folder = created.rbegin(); folder != created.rend(); ++folder) fs::remove(*folder, ec);  // if empty
         throw;
     }
     if (preview) written.emplace_back(preview_tmp, *preview);  // renamed after the EXRs

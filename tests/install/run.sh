@@ -16,6 +16,18 @@ for internal in json_fields reference synth temporary_files; do
   fi
 done
 
+# The manual page documents every subcommand; the completion completes them and their options.
+man=$prefix/share/man/man1/decalcomp.1
+for section in "DECALCOMP COMPOSITE" "DECALCOMP BATCH" "DECALCOMP INFO" "DECALCOMP DEVICES"; do
+  grep -q "^\.SH \"$section\"" "$man" || { echo "$man: no section $section" >&2; exit 1; }
+done
+grep -q -- "--decals" "$man" || { echo "$man: composite's options missing" >&2; exit 1; }
+completion=$prefix/share/bash-completion/completions/decalcomp
+words=$(bash -c \
+  'source "$1"; COMP_WORDS=("${@:2}"); COMP_CWORD=3; _decalcomp; echo "${COMPREPLY[*]}"' _ "$completion" \
+  "$prefix/bin/decalcomp" composite in.exr --dec)
+[ "$words" = "--decals" ] || { echo "$completion: 'composite --dec' completes to '$words'" >&2; exit 1; }
+
 libdir=$(cd "$prefix" && find . -name 'libdecalcomp.so' -printf '%h\n' | head -1)
 case $mode in
   cmake|cmake-static)

@@ -18,9 +18,10 @@ Command addInfoCommand(CLI::App& app);
 Command addDevicesCommand(CLI::App& app);
 Command addBatchCommand(CLI::App& app);  // cmd_batch.cpp
 
-// --profile, --profile-file, --layer, --channel, --depth, --reversed-z: shared by composite and info.
+// --profile, --profile-file, --layer, --channel, --depth, --reversed-z, --normals: shared by
+// composite, batch and info; --add-channels only where something is written (`writes`).
 void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<std::string>& channel_flags,
-                       std::string& depth_flag);
+                       std::string& depth_flag, bool writes = true);
 // Validates and folds the raw flags into options; throws Error(Usage) naming the flag.
 void finishMappingOptions(MappingOptions& options, const std::vector<std::string>& channel_flags,
                           const std::string& depth_flag);

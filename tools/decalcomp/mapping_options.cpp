@@ -11,7 +11,7 @@
 namespace decalcomp::cli {
 
 void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<std::string>& channel_flags,
-                       std::string& depth_flag) {
+                       std::string& depth_flag, bool writes) {
     command.add_option("--profile", options.profile,
                        "Channel naming profile: auto, or a profile name (built-in: generic, blender, arnold, "
                        "renderman, unreal, vray; or one from --profile-file)")
@@ -38,6 +38,7 @@ void addMappingOptions(CLI::App& command, MappingOptions& options, std::vector<s
             "against the depth pass)")
         ->check(CLI::IsMember({"world", "camera", "world,signed", "world,packed", "world,unsigned", "camera,signed",
                                "camera,packed", "camera,unsigned"}));
+    if (!writes) return;
     command.add_option_function<std::vector<std::string>>(
         "--add-channels",
         [&options](const std::vector<std::string>& items) {
