@@ -4,6 +4,8 @@
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
+#include <type_traits>
+
 #include "bindings.hpp"
 #include "decalcomp/batch.hpp"
 #include "decalcomp/error.hpp"
@@ -58,39 +60,33 @@ py::dict batch(const std::string& input, const std::string& output, const std::s
     r.input = input;
     r.output = output;
     r.scene = scene;
-    auto text = [&](const char* key, std::string& into) {
-        if (kwargs.contains(key) && !kwargs[key].is_none()) into = kwargs[key].cast<std::string>();
+    // Each keyword, when given, replaces the request's default.
+    auto set = [&](const char* key, auto& into) {
+        if (auto v = argument(kwargs, key)) into = v.cast<std::remove_reference_t<decltype(into)>>();
     };
-    auto flag = [&](const char* key, bool& into) {
-        if (kwargs.contains(key)) into = kwargs[key].cast<bool>();
-    };
-    auto number = [&](const char* key, int& into) {
-        if (kwargs.contains(key) && !kwargs[key].is_none()) into = kwargs[key].cast<int>();
-    };
-    text("preview", r.preview);
-    text("frames", r.frames);
-    text("camera", r.camera);
-    text("cameras", r.cameras);
-    text("device", r.device);
-    flag("overwrite_input", r.overwrite_input);
-    flag("force", r.force);
-    flag("resume", r.resume);
-    flag("keep_going", r.keep_going);
-    flag("binned", r.binned);
-    number("threads", r.exr_threads);
-    number("queue", r.queue_depth);
-    number("workers", r.composite_workers);
-    if (kwargs.contains("extra_inputs")) r.extra_inputs = kwargs["extra_inputs"].cast<std::vector<std::string>>();
-    r.pass_files = passFiles(kwargs.contains("passes") ? py::reinterpret_borrow<py::object>(kwargs["passes"]) : py::none());
-    if (kwargs.contains("shard") && !kwargs["shard"].is_none()) r.shard = parseShard(kwargs["shard"].cast<std::string>());
+    set("preview", r.preview);
+    set("frames", r.frames);
+    set("camera", r.camera);
+    set("cameras", r.cameras);
+    set("device", r.device);
+    set("overwrite_input", r.overwrite_input);
+    set("force", r.force);
+    set("resume", r.resume);
+    set("keep_going", r.keep_going);
+    set("binned", r.binned);
+    set("threads", r.exr_threads);
+    set("queue", r.queue_depth);
+    set("workers", r.composite_workers);
+    set("extra_inputs", r.extra_inputs);
+    auto passes = argument(kwargs, "passes");
+    r.pass_files = passFiles(passes ? passes : py::none());
+    if (auto v = argument(kwargs, "shard")) r.shard = parseShard(v.cast<std::string>());
     r.shard_from_environment = false;  // a script decides its own shard (shard="I/N")
     r.mapping = mappingOptions(kwargs);
-    if (kwargs.contains("pixel_filter") && !kwargs["pixel_filter"].is_none())
-        r.pixel_filter = parsePixelFilter(kwargs["pixel_filter"].cast<std::string>(), "pixel_filter");
+    if (auto v = argument(kwargs, "pixel_filter")) r.pixel_filter = parsePixelFilter(v.cast<std::string>(), "pixel_filter");
 
     std::unique_ptr<ProgressCallback> progress;
-    if (kwargs.contains("progress") && !kwargs["progress"].is_none())
-        progress = std::make_unique<ProgressCallback>(py::reinterpret_borrow<py::object>(kwargs["progress"]));
+    if (auto callback = argument(kwargs, "progress")) progress = std::make_unique<ProgressCallback>(callback);
     BatchReport report;
     {
         py::gil_scoped_release release;

@@ -3,6 +3,7 @@
 #include <pybind11/pybind11.h>
 
 #include <map>
+#include <optional>
 #include <string>
 
 #include "decalcomp/camera.hpp"
@@ -26,6 +27,20 @@ Camera cameraFrom(const py::object& value);
 // Reports as dicts of plain Python values (report.cpp).
 py::dict statsDict(const CompositeStats& stats);
 py::dict frameReportDict(const FrameReport& report);
+
+// kwargs[key], or an empty object when it is absent or None (None means "the default").
+py::object argument(const py::kwargs& kwargs, const char* key);
+
+// The CLI's spellings of single options, each a Error(Usage) naming `key=value` when wrong:
+// depth planar|radial|ndc|position; normals world|camera[,signed|packed|unsigned] (packed is
+// nullopt when the encoding is not given); uv_origin bottom|top (true: top, V runs down).
+DepthConvention depthArgument(const std::string& value);
+struct NormalsArgument {
+    NormalSpace space = NormalSpace::World;
+    std::optional<bool> packed;
+};
+NormalsArgument normalsArgument(const std::string& value);
+bool uvOriginTopArgument(const std::string& value);
 
 // Keyword arguments shared by files and batches, as the CLI's mapping flags: profile,
 // profile_files, layer, channels {attr: [channel...] or "a,b,c"}, depth, reversed_z,

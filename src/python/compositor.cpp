@@ -103,19 +103,13 @@ public:
         const DecalScene& decals = scene();
         const Camera camera = cameraFrom(camera_arg);
         GBuffer gbuffer;
-        const auto convention = depthConventionFromName(depth);
-        if (!convention) throw Error(ErrorKind::Usage, fmt::format("depth={}: expected planar, radial, ndc or position", depth));
-        gbuffer.depth_convention = *convention;
+        gbuffer.depth_convention = depthArgument(depth);
         gbuffer.reversed_z = reversed_z;
-        if (normals != "world" && normals != "camera" && normals != "world,packed" && normals != "camera,packed" &&
-            normals != "world,signed" && normals != "camera,signed")
-            throw Error(ErrorKind::Usage, fmt::format("normals={}: expected world|camera[,signed|packed]", normals));
-        gbuffer.normal_encoding.space = normals.rfind("camera", 0) == 0 ? NormalSpace::Camera : NormalSpace::World;
-        gbuffer.normal_encoding.packed = normals.find(",packed") != std::string::npos;
+        const NormalsArgument normal_encoding = normalsArgument(normals);
+        gbuffer.normal_encoding.space = normal_encoding.space;
+        gbuffer.normal_encoding.packed = normal_encoding.packed.value_or(false);  // signed unless told
         gbuffer.pixel_filter = parsePixelFilter(pixel_filter, "pixel_filter");
-        if (uv_origin != "bottom" && uv_origin != "top")
-            throw Error(ErrorKind::Usage, fmt::format("uv_origin={}: expected bottom or top", uv_origin));
-        gbuffer.uv_v_down = uv_origin == "top";
+        gbuffer.uv_v_down = uvOriginTopArgument(uv_origin);
 
         std::vector<InputPlane> inputs = inputPlanes(planes, gbuffer.width, gbuffer.height);
         gbuffer.display_width = gbuffer.width;
@@ -151,28 +145,23 @@ public:
         sources.inputs = py::isinstance<py::str>(inputs) ? std::vector<std::string>{inputs.cast<std::string>()}
                                                          : inputs.cast<std::vector<std::string>>();
         if (sources.inputs.empty()) throw Error(ErrorKind::Usage, "composite_files: no input files");
-        if (kwargs.contains("camera") && !kwargs["camera"].is_none()) {
-            if (py::isinstance<py::str>(kwargs["camera"])) sources.camera_json = kwargs["camera"].cast<std::string>();
-            else sources.camera = cameraFrom(kwargs["camera"]);
+        if (auto camera = argument(kwargs, "camera")) {
+            if (py::isinstance<py::str>(camera)) sources.camera_json = camera.cast<std::string>();
+            else sources.camera = cameraFrom(camera);
         }
-        sources.pass_files = passFiles(kwargs.contains("passes") ? py::reinterpret_borrow<py::object>(kwargs["passes"]) : py::none());
+        auto passes = argument(kwargs, "passes");
+        sources.pass_files = passFiles(passes ? passes : py::none());
         FrameTargets targets;
         targets.output = output;
-        if (kwargs.contains("preview") && !kwargs["preview"].is_none()) targets.preview = kwargs["preview"].cast<std::string>();
-        if (kwargs.contains("overwrite_input")) targets.overwrite_input = kwargs["overwrite_input"].cast<bool>();
-        if (kwargs.contains("force")) targets.force = kwargs["force"].cast<bool>();
+        if (auto v = argument(kwargs, "preview")) targets.preview = v.cast<std::string>();
+        if (auto v = argument(kwargs, "overwrite_input")) targets.overwrite_input = v.cast<bool>();
+        if (auto v = argument(kwargs, "force")) targets.force = v.cast<bool>();
         FrameOptions options;
         options.mapping = mappingOptions(kwargs);
-        if (kwargs.contains("pixel_filter") && !kwargs["pixel_filter"].is_none())
-            options.pixel_filter = parsePixelFilter(kwargs["pixel_filter"].cast<std::string>(), "pixel_filter");
-        if (kwargs.contains("uv_origin") && !kwargs["uv_origin"].is_none()) {
-            const std::string origin = kwargs["uv_origin"].cast<std::string>();
-            if (origin != "bottom" && origin != "top")
-                throw Error(ErrorKind::Usage, fmt::format("uv_origin={}: expected bottom or top", origin));
-            options.uv_v_down = origin == "top";
-        }
-        if (kwargs.contains("frame") && !kwargs["frame"].is_none()) options.frame_number = kwargs["frame"].cast<double>();
-        if (kwargs.contains("binned")) options.compositing.binned = kwargs["binned"].cast<bool>();
+        if (auto v = argument(kwargs, "pixel_filter")) options.pixel_filter = parsePixelFilter(v.cast<std::string>(), "pixel_filter");
+        if (auto v = argument(kwargs, "uv_origin")) options.uv_v_down = uvOriginTopArgument(v.cast<std::string>());
+        if (auto v = argument(kwargs, "frame")) options.frame_number = v.cast<double>();
+        if (auto v = argument(kwargs, "binned")) options.compositing.binned = v.cast<bool>();
 
         const DecalScene& decals = scene();
         FrameReport report;

@@ -37,35 +37,49 @@ std::vector<std::string> channelList(const py::handle& value) {
 
 }  // namespace
 
+py::object argument(const py::kwargs& kwargs, const char* key) {
+    return kwargs.contains(key) && !kwargs[key].is_none() ? py::reinterpret_borrow<py::object>(kwargs[key])
+                                                          : py::object();
+}
+
+DepthConvention depthArgument(const std::string& value) {
+    const auto convention = depthConventionFromName(value);
+    if (!convention) throw usage(fmt::format("depth={}: expected planar, radial, ndc or position", value));
+    return *convention;
+}
+
+NormalsArgument normalsArgument(const std::string& value) {
+    const auto comma = value.find(',');
+    const std::string space = value.substr(0, comma);
+    const auto wrong = [&] { return usage(fmt::format("normals={}: expected world|camera[,signed|packed]", value)); };
+    if (space != "world" && space != "camera") throw wrong();
+    NormalsArgument normals;
+    normals.space = space == "camera" ? NormalSpace::Camera : NormalSpace::World;
+    if (comma != std::string::npos) {
+        const std::string encoding = value.substr(comma + 1);
+        if (encoding != "signed" && encoding != "packed" && encoding != "unsigned") throw wrong();
+        normals.packed = encoding != "signed";  // packed, or its alias unsigned (as the CLI)
+    }
+    return normals;
+}
+
+bool uvOriginTopArgument(const std::string& value) {
+    if (value != "bottom" && value != "top") throw usage(fmt::format("uv_origin={}: expected bottom or top", value));
+    return value == "top";
+}
+
 MappingOptions mappingOptions(const py::kwargs& kwargs) {
     MappingOptions options;
-    auto get = [&](const char* key) -> py::object {
-        return kwargs.contains(key) && !kwargs[key].is_none() ? py::reinterpret_borrow<py::object>(kwargs[key])
-                                                              : py::object();
-    };
+    auto get = [&](const char* key) { return argument(kwargs, key); };
     if (auto v = get("profile")) options.profile = v.cast<std::string>();
     if (auto v = get("profile_files")) options.profile_files = v.cast<std::vector<std::string>>();
     if (auto v = get("layer")) options.layer = v.cast<std::string>();
-    if (auto v = get("depth")) {
-        const auto convention = depthConventionFromName(v.cast<std::string>());
-        if (!convention)
-            throw usage(fmt::format("depth={}: expected planar, radial, ndc or position", v.cast<std::string>()));
-        options.depth_convention = convention;
-    }
+    if (auto v = get("depth")) options.depth_convention = depthArgument(v.cast<std::string>());
     if (auto v = get("reversed_z")) options.reversed_z = v.cast<bool>();
     if (auto v = get("normals")) {
-        const std::string text = v.cast<std::string>();
-        const auto comma = text.find(',');
-        const std::string space = text.substr(0, comma);
-        if (space != "world" && space != "camera")
-            throw usage(fmt::format("normals={}: expected world|camera[,signed|packed]", text));
-        options.normal_space = space == "camera" ? NormalSpace::Camera : NormalSpace::World;
-        if (comma != std::string::npos) {
-            const std::string encoding = text.substr(comma + 1);
-            if (encoding != "signed" && encoding != "packed" && encoding != "unsigned")
-                throw usage(fmt::format("normals={}: expected world|camera[,signed|packed]", text));
-            options.normal_packed = encoding != "signed";
-        }
+        const NormalsArgument normals = normalsArgument(v.cast<std::string>());
+        options.normal_space = normals.space;
+        if (normals.packed) options.normal_packed = *normals.packed;
     }
     if (auto v = get("channels"))
         for (const auto& [key, value] : v.cast<py::dict>()) {
