@@ -24,6 +24,7 @@ struct BatchRequest {
     std::string preview;  // optional frame pattern of PNG previews
     std::string frames;  // range spec; empty = every frame whose input exists
     std::string scene;   // decal scene JSON (may animate decals over frames)
+    std::string ocio_config;  // OpenColorIO config for the scene's colour spaces ("" = $OCIO)
     std::string camera;  // sidecar pattern or one sidecar; empty = header / solve
     std::string cameras; // per-frame cameras file
     std::string device;  // OpenCL devices: a selector, several separated by ',', or "all" (selectDevices)

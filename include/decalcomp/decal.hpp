@@ -153,6 +153,9 @@ struct DecalScene {
     std::vector<DecalMask> masks;  // distinct masks the decals refer to
     std::vector<RestMesh> meshes;  // rest-pose meshes of texture-space decals
     std::vector<std::string> warnings;  // found while loading (duplicate decal names); the CLI prints them
+    // Colour management (docs/colour.md): the OpenColorIO space the colour textures were
+    // converted to and the config read ("" for both: built-in sRGB / linear Rec.709 decode).
+    std::string working_space, colour_config;
 };
 
 // The scene as it is at `frame`: decals outside their lifetime are left out, the others get their

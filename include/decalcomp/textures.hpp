@@ -6,6 +6,8 @@
 
 namespace decalcomp {
 
+struct TextureColour;  // textures/colour_config.hpp
+
 enum class AlphaMode { Auto, Straight, Premultiplied };
 // Colour images (albedo, emission) are sRGB-encoded when stored as integers; data images (normal
 // maps, ORM) hold their values as they are.
@@ -14,9 +16,10 @@ enum class TextureContent { Colour, Data };
 // Loads an image as linear, premultiplied RGBA float. 8/16-bit integer files (PNG, TGA...) are
 // sRGB-encoded with straight alpha; float files (EXR) are linear and premultiplied unless
 // `alpha` says Straight. Grey and RGB images get alpha 1. Data content skips the sRGB decode.
-// Throws Error(Input) naming the file.
+// With `colour`, colour content is instead converted by OpenColorIO from its colour space to the
+// working space (straight alpha while converting). Throws Error(Input) naming the file.
 Texture2D loadTexture2D(const std::string& path, AlphaMode alpha = AlphaMode::Auto,
-                        TextureContent content = TextureContent::Colour);
+                        TextureContent content = TextureContent::Colour, const TextureColour* colour = nullptr);
 
 float srgbToLinear(float encoded);
 float linearToSrgb(float linear);

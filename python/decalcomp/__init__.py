@@ -37,13 +37,14 @@ __all__ = [
 SceneLike = Union[Scene, Mapping[str, Any], str, "os.PathLike[str]"]
 
 
-def load_scene(scene: SceneLike, base_dir: str = ".") -> Scene:
-    """A Scene from a Scene (returned as is), a scene-format dict (paths relative to base_dir) or a JSON path."""
+def load_scene(scene: SceneLike, base_dir: str = ".", ocio: str = "") -> Scene:
+    """A Scene from a Scene (returned as is), a scene-format dict (paths relative to base_dir) or a JSON path.
+    `ocio`: the OpenColorIO config of the scene's colour spaces (default: $OCIO)."""
     if isinstance(scene, Scene):
         return scene
     if isinstance(scene, Mapping):
-        return Scene.from_dict(dict(scene), base_dir=base_dir)
-    return Scene.load(os.fspath(scene))
+        return Scene.from_dict(dict(scene), base_dir=base_dir, ocio=ocio)
+    return Scene.load(os.fspath(scene), ocio=ocio)
 
 
 def composite_files(inputs, output, scene: SceneLike, *, device: str = "", **options) -> dict:

@@ -523,7 +523,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     DecalScene scene;
     std::vector<DeviceWorkers> devices;
     if (!request.io_only) {
-        scene = loadScene(request.scene);
+        scene = loadScene(request.scene, SceneOptions{request.ocio_config});
         if (!plan.frames.empty()) devices = setUpDevices(request, scene, report);
     }
     // After the scene: decoding its EXR textures through OpenImageIO may change the global count.

@@ -99,7 +99,7 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
     for (const auto& [file, path] : outputs_) run.exr_outputs.push_back(path);
     run.preview = targets_.preview;
     for (const ExrImage& image : files_) run.exr_inputs.push_back(image.path);
-    run.other_reads = {scene.source, sources_.camera_json, sources_.camera_file};
+    run.other_reads = {scene.source, scene.colour_config, sources_.camera_json, sources_.camera_file};
     for (const std::string& profile : options_.mapping.profile_files) run.other_reads.push_back(profile);
     for (const Texture2D& texture : scene.textures) run.other_reads.push_back(texture.source);
     for (const CryptomatteLayer& layer : cryptomatteLayers(files_))  // sidecar manifests ("" for none)

@@ -54,7 +54,7 @@ py::dict batch(const std::string& input, const std::string& output, const std::s
                   {"extra_inputs", "passes", "preview", "frames", "camera", "cameras", "device", "overwrite_input", "force",
                    "resume", "keep_going", "shard", "threads", "queue", "workers", "progress", "profile",
                    "profile_files", "layer", "channels", "depth", "reversed_z", "normals", "add_channels",
-                   "pixel_filter", "binned"},
+                   "pixel_filter", "binned", "ocio"},
                   "batch");
     BatchRequest r;
     r.input = input;
@@ -78,6 +78,7 @@ py::dict batch(const std::string& input, const std::string& output, const std::s
     set("queue", r.queue_depth);
     set("workers", r.composite_workers);
     set("extra_inputs", r.extra_inputs);
+    set("ocio", r.ocio_config);
     auto passes = argument(kwargs, "passes");
     r.pass_files = passFiles(passes ? passes : py::none());
     if (auto v = argument(kwargs, "shard")) r.shard = parseShard(v.cast<std::string>());

@@ -64,22 +64,33 @@ Camera cameraFrom(const py::object& value) {
 void bindScene(py::module_& m) {
     py::class_<DecalScene, std::shared_ptr<DecalScene>>(
         m, "Scene", "A decal scene (docs/scene-format.md): load it once, composite it into many frames.")
-        .def_static("load", &loadScene, py::arg("path"), py::call_guard<py::gil_scoped_release>(),
-                    "Loads a scene JSON file; texture paths are relative to it.")
-        .def_static("from_json", &parseScene, py::arg("text"), py::arg("label") = "<json>", py::arg("base_dir") = ".",
-                    py::call_guard<py::gil_scoped_release>(),
-                    "Parses scene JSON text; `label` names it in errors, relative paths resolve against `base_dir`.")
+        .def_static(
+            "load", [](const std::string& path, const std::string& ocio) { return loadScene(path, {ocio}); },
+            py::arg("path"), py::arg("ocio") = "", py::call_guard<py::gil_scoped_release>(),
+            "Loads a scene JSON file; texture paths are relative to it. `ocio`: the OpenColorIO config of its "
+            "colour spaces (default: $OCIO).")
+        .def_static(
+            "from_json",
+            [](const std::string& text, const std::string& label, const std::string& base_dir, const std::string& ocio) {
+                return parseScene(text, label, base_dir, {ocio});
+            },
+            py::arg("text"), py::arg("label") = "<json>", py::arg("base_dir") = ".", py::arg("ocio") = "",
+            py::call_guard<py::gil_scoped_release>(),
+            "Parses scene JSON text; `label` names it in errors, relative paths resolve against `base_dir`.")
         .def_static(
             "from_dict",
-            [](const py::dict& scene, const std::string& label, const std::string& base_dir) {
+            [](const py::dict& scene, const std::string& label, const std::string& base_dir, const std::string& ocio) {
                 const std::string text = py::module_::import("json").attr("dumps")(scene).cast<std::string>();
                 py::gil_scoped_release release;
-                return parseScene(text, label, base_dir);
+                return parseScene(text, label, base_dir, {ocio});
             },
-            py::arg("scene"), py::arg("label") = "<dict>", py::arg("base_dir") = ".",
+            py::arg("scene"), py::arg("label") = "<dict>", py::arg("base_dir") = ".", py::arg("ocio") = "",
             "The same from a dict of the scene format.")
         .def_readonly("source", &DecalScene::source)
         .def_readonly("warnings", &DecalScene::warnings, "Found while loading (duplicate decal names...)")
+        .def_readonly("working_space", &DecalScene::working_space,
+                      "The OpenColorIO space colour textures were converted to (\"\": built-in decode)")
+        .def_readonly("colour_config", &DecalScene::colour_config, "The OpenColorIO config read (\"\": none)")
         .def_property_readonly(
             "decal_names",
             [](const DecalScene& s) {

@@ -17,6 +17,7 @@
 #include "decalcomp/scene.hpp"
 #include "decalcomp/textures.hpp"
 #include "scene/animation_json.hpp"
+#include "scene/colour_json.hpp"
 #include "scene/kind_json.hpp"
 #include "scene/mask_json.hpp"
 #include "scene/material_json.hpp"
@@ -47,8 +48,10 @@ const std::vector<std::string> kTopLevelKeys = {"format", "description", "textur
 const std::vector<std::string> kTrsKeys = {"translate", "rotate_deg", "quaternion_wxyz", "scale"};
 const std::vector<std::string> kLookAtKeys = {"origin", "target", "up", "size"};
 // Keys of a texture-set object: the albedo under one of its layout names, the other maps, options.
-const std::vector<std::string> kTextureSetKeys = {"albedo", "volume",   "cube",  "cube_faces", "normal",
-                                                  "orm",    "emission", "alpha", "normal_y"};
+const std::vector<std::string> kTextureSetKeys = {"albedo", "volume", "cube",     "cube_faces", "normal",
+                                                  "orm",    "emission", "alpha", "normal_y", "colorspace"};
+// Keys of one map written as an object instead of a path.
+const std::vector<std::string> kMapKeys = {"file", "colorspace"};
 // Single-channel maps users may expect; the format packs them into "orm".
 const std::vector<std::string> kPackedIntoOrm = {"roughness", "metallic", "occlusion", "ao"};
 
@@ -65,6 +68,7 @@ struct TextureRequest {
     std::vector<std::string> faces;  // cube faces +X,-X,+Y,-Y,+Z,-Z (layout CubeFaces)
     TextureContent content = TextureContent::Colour;
     bool flip_green = false;  // a normal map with +Y down (DirectX convention)
+    std::optional<JsonField> colorspace;  // the map's own, else its set's (colour maps only)
 };
 
 // A DirectX normal map (+Y down) as an OpenGL one: straight green g -> 1 - g, premultiplied.
@@ -87,12 +91,16 @@ struct ParsedDecal {
 class SceneParser {
 public:
     // `file` names the scene in messages; relative texture and mesh paths resolve against `dir`.
-    SceneParser(std::string file, fs::path dir) : file_(std::move(file)), dir_(std::move(dir)) { meshes_.dir = dir_; }
+    SceneParser(std::string file, fs::path dir, SceneOptions options)
+        : file_(std::move(file)), dir_(std::move(dir)), options_(std::move(options)) {
+        meshes_.dir = dir_;
+    }
 
     DecalScene load(const json& doc) {
         const JsonField root(doc, file_);
         root.requireObject("a JSON object with a 'decals' array");
         checkTopLevelKeys(root);
+        colour_.emplace(root, options_.ocio_config);
         const TextureFilter defaultFilter = parseDefaultFilter(root);
         parseTextureTable(root);
         const JsonField decals = root.required("decals", "an array of decals");
@@ -124,6 +132,8 @@ public:
         std::stable_sort(parsed.begin(), parsed.end(),
                          [](const ParsedDecal& a, const ParsedDecal& b) { return a.priority < b.priority; });
         for (ParsedDecal& p : parsed) scene.decals.push_back(std::move(p.decal));
+        scene.working_space = colour_->workingSpace();
+        scene.colour_config = colour_->configFile();
         return scene;
     }
 
@@ -146,9 +156,12 @@ private:
 
     std::string file_;
     fs::path dir_;
+    SceneOptions options_;
+    std::optional<scene_detail::SceneColour> colour_;
     std::map<std::string, TextureSetRequest> textureTable_;
-    // decoded textures by (files, alpha, layout, content, flip) -> texture index
-    std::map<std::tuple<std::string, AlphaMode, scene_detail::TextureLayout, TextureContent, bool>, int> loaded_;
+    // decoded textures by (files, alpha, layout, content, flip, colour spaces) -> texture index
+    std::map<std::tuple<std::string, AlphaMode, scene_detail::TextureLayout, TextureContent, bool, std::string>, int>
+        loaded_;
     mutable std::vector<DecalMask> masks_;  // distinct masks, filled while parsing decals
     mutable scene_detail::MeshTable meshes_;  // rest meshes of texture-space decals, each file once
 
@@ -156,7 +169,8 @@ private:
     // misspellings of real keys are errors, since "decal" for "decals" must not pass silently.
     void checkTopLevelKeys(const JsonField& root) const {
         for (const auto& [key, value] : root.members())
-            if (!contains(kTopLevelKeys, key) && !JsonField::isNoteKey(key) && closestJsonKey(key, kTopLevelKeys))
+            if (!contains(kTopLevelKeys, key) && !contains(scene_detail::kColourTopLevelKeys, key) &&
+                !JsonField::isNoteKey(key) && closestJsonKey(key, kTopLevelKeys))
                 root.failUnknownKey(key, kTopLevelKeys);
         if (const auto format = root.optional("format")) format->string();  // must be a string
     }
@@ -181,10 +195,17 @@ private:
         for (const auto& [name, value] : table->members()) textureTable_[name] = parseTexture(value);
     }
 
+    // A map: an image path, or {"file": path, "colorspace": name}.
     static TextureRequest imageRequest(const JsonField& v) {
         TextureRequest request;
-        request.file = v.nonEmptyString("image path");
         request.jsonPath = v.path();
+        if (v.isObject()) {
+            v.checkKeys(kMapKeys);
+            request.file = v.required("file", "the image path").nonEmptyString("image path");
+            request.colorspace = v.optional("colorspace");
+            return request;
+        }
+        request.file = v.nonEmptyString("image path");
         return request;
     }
 
@@ -198,6 +219,7 @@ private:
         v.requireObject("an image path or an object like {\"albedo\": \"file.png\"}");
         AlphaMode alpha = AlphaMode::Auto;
         bool normal_y_down = false;
+        std::optional<JsonField> colorspace;  // the set's, for its colour maps
         for (const auto& [key, value] : v.members()) {
             if (key == "albedo" || key == "volume" || key == "cube") {
                 if (set.albedo) value.fail("give one of 'albedo', 'volume', 'cube', 'cube_faces'");
@@ -222,6 +244,9 @@ private:
             } else if (key == "alpha") {
                 alpha = std::array{AlphaMode::Auto, AlphaMode::Straight,
                                    AlphaMode::Premultiplied}[value.choice({"auto", "straight", "premultiplied"})];
+            } else if (key == "colorspace") {
+                value.nonEmptyString("colour space name");
+                colorspace = value;
             } else if (key == "normal_y") {
                 normal_y_down = value.choice({"up", "down"}) == 1;  // up: OpenGL, down: DirectX
             } else if (contains(kPackedIntoOrm, key)) {
@@ -235,6 +260,14 @@ private:
         if (set.normal) set.normal->flip_green = normal_y_down;
         for (auto* r : {&set.albedo, &set.normal, &set.orm, &set.emission})
             if (*r) (*r)->alpha = alpha;
+        for (auto* r : {&set.normal, &set.orm})  // data, not colour: converting would change the values
+            if (*r && (*r)->colorspace)
+                (*r)->colorspace->fail("normal and orm maps hold data, not colour: they are never converted "
+                                       "(leave out 'colorspace')");
+        for (auto* r : {&set.albedo, &set.emission})
+            if (*r && !(*r)->colorspace) (*r)->colorspace = colorspace;
+        if (colorspace && !set.albedo && !set.emission)
+            colorspace->fail("there is no colour map (albedo or emission) to apply it to");
         return set;
     }
 
@@ -416,7 +449,13 @@ private:
         if (ec) identity = file.lexically_normal();
         std::string files = identity.string();
         for (std::size_t f = 1; f < request.faces.size(); ++f) files += "|" + request.faces[f];  // a cube is all six
-        const auto key = std::make_tuple(files, request.alpha, request.layout, request.content, request.flip_green);
+        const std::optional<TextureColour> colour =
+            request.content == TextureContent::Colour ? colour_->forTexture(request.colorspace) : std::nullopt;
+        const TextureColour* decode = colour ? &*colour : nullptr;
+        const std::string spaces =
+            colour ? colour->integer_space + "|" + colour->float_space + "|" + colour->working_space : "";
+        const auto key =
+            std::make_tuple(files, request.alpha, request.layout, request.content, request.flip_green, spaces);
         if (auto it = loaded_.find(key); it != loaded_.end()) return it->second;
         try {
             if (request.layout == scene_detail::TextureLayout::CubeFaces) {
@@ -424,12 +463,12 @@ private:
                 for (const std::string& face : request.faces) {
                     fs::path face_file(face);
                     if (face_file.is_relative()) face_file = dir_ / face_file;
-                    faces.push_back(loadTexture2D(face_file.string(), request.alpha, request.content));
+                    faces.push_back(loadTexture2D(face_file.string(), request.alpha, request.content, decode));
                 }
                 scene.textures.push_back(cubeFromFaces(faces));
             } else {
                 scene.textures.push_back(scene_detail::arrangeTexture(
-                    loadTexture2D(file.string(), request.alpha, request.content), request.layout));
+                    loadTexture2D(file.string(), request.alpha, request.content, decode), request.layout));
             }
             if (request.flip_green) flipGreen(scene.textures.back());
         } catch (const Error& e) {
@@ -443,17 +482,18 @@ private:
 
 }  // namespace
 
-DecalScene loadScene(const std::string& path) {
+DecalScene loadScene(const std::string& path, const SceneOptions& options) {
     const json doc = readJsonFile(path, "scene file");
-    DecalScene scene = SceneParser(path, fs::path(path).parent_path()).load(doc);
+    DecalScene scene = SceneParser(path, fs::path(path).parent_path(), options).load(doc);
     scene.source = path;
     scene.fingerprint = sceneFingerprint(doc.dump());
     return scene;
 }
 
-DecalScene parseScene(const std::string& json_text, const std::string& label, const std::string& base_dir) {
+DecalScene parseScene(const std::string& json_text, const std::string& label, const std::string& base_dir,
+                      const SceneOptions& options) {
     const json doc = parseJsonText(json_text, label);
-    DecalScene scene = SceneParser(label, base_dir).load(doc);
+    DecalScene scene = SceneParser(label, base_dir, options).load(doc);
     scene.source = label;
     scene.fingerprint = sceneFingerprint(doc.dump());
     return scene;

@@ -15,6 +15,7 @@
 #include "decalcomp/memory_limit.hpp"
 #include "decalcomp/textures.hpp"
 #include "io/exr_plausibility.hpp"
+#include "textures/colour_config.hpp"
 #include "textures/quiet_stderr.hpp"
 
 namespace decalcomp {
@@ -154,7 +155,29 @@ void requirePlausibleExrTexture(const std::string& path) {
     if (in.read(magic, sizeof magic) && Imf::isImfMagic(magic)) io::requirePlausibleExr(path);
 }
 
-Texture2D decodeTexture(const std::string& path, AlphaMode alpha, TextureContent content) {
+// A colour-managed texture: stored values as they are (normalised integers, floats), straight
+// alpha, so OpenColorIO sees the encoded colour it expects; premultiplied after conversion.
+void decodeManaged(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, const ChannelLayout& layout,
+                   bool file_is_straight, const TextureColour& colour, Texture2D& tex) {
+    const std::vector<float> raw = readPixels<float>(in, spec, OIIO::TypeDesc::FLOAT, tex.source);
+    decodeTexels(
+        raw, spec.nchannels, layout, false, [](float v) { return v; }, [](float v) { return v; }, tex.texels);
+    if (!file_is_straight)  // a premultiplied float file: the colour itself, before converting
+        for (glm::vec4& t : tex.texels)
+            if (t.a > 0.0f) t = glm::vec4(glm::vec3(t) / t.a, t.a);
+    const bool integer = isIntegerFormat(spec.format);
+    const std::string& from = integer ? colour.integer_space : colour.float_space;
+    if (from.empty())
+        throw inputError(fmt::format("'{}': no colour space known for {} texture ({} names none of the usual ones): "
+                                     "give its 'colorspace', or the scene's texture_colorspaces.{}",
+                                     tex.source, integer ? "an integer" : "a float", colour.config->file(),
+                                     integer ? "integer" : "float"));
+    colour.config->convert(tex.texels, from, colour.working_space);
+    for (glm::vec4& t : tex.texels) t = glm::vec4(glm::vec3(t) * t.a, t.a);
+}
+
+Texture2D decodeTexture(const std::string& path, AlphaMode alpha, TextureContent content,
+                        const TextureColour* colour) {
     requirePlausibleExrTexture(path);
 
     // Without this hint OIIO premultiplies 8-bit straight-alpha PNG/TGA on read.
@@ -174,7 +197,9 @@ Texture2D decodeTexture(const std::string& path, AlphaMode alpha, TextureContent
     tex.height = spec.height;
     tex.texels.resize(size_t(spec.width) * size_t(spec.height));
 
-    if (spec.format == OIIO::TypeDesc::UINT8) {
+    if (colour && content == TextureContent::Colour) {
+        decodeManaged(*in, spec, layout, premultiply, *colour, tex);
+    } else if (spec.format == OIIO::TypeDesc::UINT8) {
         decodeIntegerNative<std::uint8_t>(*in, spec, OIIO::TypeDesc::UINT8, layout, premultiply, content, tex);
     } else if (spec.format == OIIO::TypeDesc::UINT16) {
         decodeIntegerNative<std::uint16_t>(*in, spec, OIIO::TypeDesc::UINT16, layout, premultiply, content, tex);
@@ -192,10 +217,11 @@ Texture2D decodeTexture(const std::string& path, AlphaMode alpha, TextureContent
 
 }  // namespace
 
-Texture2D loadTexture2D(const std::string& path, AlphaMode alpha, TextureContent content) {
+Texture2D loadTexture2D(const std::string& path, AlphaMode alpha, TextureContent content,
+                        const TextureColour* colour) {
     requireInputFile(path, "texture");
     const QuietStderr quiet;  // libpng's own lines; its failures come back through OIIO's error
-    return decodeTexture(path, alpha, content);
+    return decodeTexture(path, alpha, content, colour);
 }
 
 }  // namespace decalcomp

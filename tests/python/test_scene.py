@@ -44,3 +44,23 @@ def test_devices_lists_pocl_cpu():
     devices = decalcomp.devices()
     assert any(d.type == "cpu" for d in devices)
     assert [d.index for d in devices] == list(range(len(devices)))
+
+
+OCIO_CONFIG = SAMPLE.parent / "ocio" / "config.ocio"
+
+
+def test_colour_managed_scene_names_its_working_space_and_config():
+    scene = {"working_space": "ACEScg", "decals": [{"translate": [0, 0, 0], "texture": "textures/scorch.png"}]}
+    loaded = decalcomp.Scene.from_dict(scene, base_dir=str(SAMPLE), ocio=str(OCIO_CONFIG))
+    assert loaded.working_space == "ACEScg"
+    assert loaded.colour_config == str(OCIO_CONFIG)
+    assert decalcomp.load_scene(scene, base_dir=str(SAMPLE), ocio=str(OCIO_CONFIG)).working_space == "ACEScg"
+    assert decalcomp.Scene.load(str(SAMPLE / "scene.json")).working_space == ""
+
+
+def test_colour_space_without_a_config_is_the_clis_error(monkeypatch):
+    monkeypatch.delenv("OCIO", raising=False)
+    with pytest.raises(decalcomp.InputError) as raised:
+        decalcomp.Scene.from_dict({"working_space": "ACEScg", "decals": []}, label="shot.json")
+    assert str(raised.value) == ("shot.json: working_space: colour spaces need an OpenColorIO config: "
+                                 "give --ocio FILE or set $OCIO")

@@ -92,6 +92,7 @@ Command addBatchCommand(CLI::App& app) {
         ->required();
     cmd->add_option("--preview", r.preview, "Also write a PNG per frame (a pattern: preview.####.png)");
     cmd->add_option("--decals", r.scene, "Decal scene JSON; decals may have lifetimes and keyframes");
+    addOcioOption(*cmd, r.ocio_config);
     cmd->add_option("--frames", r.frames, "Frames: 1-240, 1-240x2, 1,5,10-20 (default: every input that exists)");
     cmd->add_option("--camera", r.camera,
                     "Camera sidecar for every frame, or a sidecar pattern (cam.####.json); default: each frame's "

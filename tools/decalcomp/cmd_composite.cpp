@@ -15,6 +15,7 @@ struct CompositeFlags {
     FrameTargets targets;
     FrameOptions options;
     std::string scene, device;
+    SceneOptions scene_options;
     std::vector<std::string> passes;
     std::vector<std::string> channels;
     std::string depth;
@@ -42,6 +43,7 @@ Command addCompositeCommand(CLI::App& app) {
                     "G-buffer EXR(s): single- or multi-part, or several files whose channels are pooled")
         ->required();
     cmd->add_option("--decals", flags->scene, "Decal scene JSON (docs/scene-format.md)")->required();
+    addOcioOption(*cmd, flags->scene_options.ocio_config);
     cmd->add_option("--camera", flags->sources.camera_json,
                     "Camera JSON sidecar (default: an input header's worldToCamera/worldToNDC, else solved from "
                     "the position pass)");
@@ -69,7 +71,7 @@ Command addCompositeCommand(CLI::App& app) {
         flags->sources.pass_files = parsePassFlags(flags->passes);
         // Inputs, scene, outputs and camera are checked before the device is opened.
         Frame frame(flags->sources, flags->targets, flags->options);
-        const DecalScene scene = loadScene(flags->scene);
+        const DecalScene scene = loadScene(flags->scene, flags->scene_options);
         frame.prepare(scene);
         ComputeDevice device(flags->device);
         Compositor compositor(device);

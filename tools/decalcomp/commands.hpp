@@ -30,6 +30,8 @@ void finishMappingOptions(MappingOptions& options, const std::vector<std::string
 void addPixelFilterOption(CLI::App& command, std::optional<PixelFilter>& filter);
 // --uv-origin auto|bottom|top (texture-space decals): shared by composite and batch.
 void addUvOriginOption(CLI::App& command, std::optional<bool>& uv_v_down);
+// --ocio FILE: the OpenColorIO config of the scene's colour spaces (docs/colour.md).
+void addOcioOption(CLI::App& command, std::string& ocio_config);
 
 // --beauty auto|on|off and --relight: shared by composite and batch.
 void addBeautyOptions(CLI::App& command, BeautyOptions& options);
