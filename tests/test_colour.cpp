@@ -286,6 +286,23 @@ TEST(ColourErrors, NameTheFieldAndTheFix) {
     EXPECT_EQ(broken.find('\n'), std::string::npos) << broken;
 }
 
+TEST(ColourErrors, ATextureWithoutASpaceTheConfigCanNameSaysWhatToGive) {
+    ScratchDir dir;
+    writePng(dir.file("logo.png"), 2, 1, kPixels);
+    // A config of ACEScg alone: no sRGB texture space under any of the usual names.
+    std::ofstream(dir.file("aces.ocio")) << "ocio_profile_version: 2\nroles: {default: ACEScg, scene_linear: ACEScg}\n"
+                                            "colorspaces:\n  - !<ColorSpace> {name: ACEScg}\n";
+    EXPECT_EQ(sceneError(sceneText(R"("logo.png")", R"("working_space": "ACEScg")"), dir, dir.file("aces.ocio")),
+              "scene.json: decals[0].texture: '" + dir.file("logo.png") +
+                  "': no colour space known for an integer texture (" + dir.file("aces.ocio") +
+                  " names none of the usual ones): give its 'colorspace', or the scene's texture_colorspaces.integer");
+    // Naming the texture's space is the fix.
+    const DecalScene fixed = parse(sceneText(R"({"albedo": "logo.png", "colorspace": "ACEScg"})",
+                                             R"("working_space": "ACEScg")"),
+                                   dir, dir.file("aces.ocio"));
+    expectNear(fixed.textures[0].texels[0], {200 / 255.0, 100 / 255.0, 30 / 255.0}, 1.0, 1e-6);
+}
+
 // ---- end to end: the CLI composites an sRGB texture into an ACEScg frame ----
 
 struct AlbedoPlane {

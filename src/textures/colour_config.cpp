@@ -10,6 +10,7 @@
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/input_file.hpp"
+#include "io/exr_layout.hpp"
 
 namespace decalcomp {
 namespace {
@@ -19,10 +20,10 @@ std::string lowered(std::string s) {
     return s;
 }
 
-std::string oneLine(std::string s) {
-    std::replace(s.begin(), s.end(), '\n', ' ');
-    while (!s.empty() && s.back() == ' ') s.pop_back();
-    return s.empty() ? "unknown error" : s;
+// OpenColorIO's reason on one line, or a placeholder when it gave none.
+std::string reason(const std::string& message) {
+    const std::string line = io::oneLine(message);
+    return line.empty() ? "unknown error" : line;
 }
 
 }  // namespace
@@ -49,7 +50,7 @@ std::shared_ptr<const ColourConfig> ColourConfig::open(const std::string& file, 
     requireInputFile(path, "OpenColorIO config");
     auto impl = std::make_unique<Impl>(path);
     if (impl->config.has_error() || impl->config.getNumColorSpaces() <= 0) {
-        const std::string why = impl->config.has_error() ? oneLine(impl->config.geterror()) : "it defines no colour spaces";
+        const std::string why = impl->config.has_error() ? reason(impl->config.geterror()) : "it defines no colour spaces";
         throw inputError(fmt::format("{}: cannot use the OpenColorIO config: {}", path, why));
     }
     return std::shared_ptr<const ColourConfig>(new ColourConfig(path, std::move(impl)));
@@ -75,7 +76,7 @@ void ColourConfig::convert(std::vector<glm::vec4>& texels, const std::string& fr
     const OIIO::ColorProcessorHandle processor = impl_->config.createColorProcessor(from, to);
     if (!processor)
         throw inputError(fmt::format("{}: OpenColorIO cannot convert '{}' to '{}': {}", file_, from, to,
-                                     oneLine(impl_->config.geterror())));
+                                     reason(impl_->config.geterror())));
     if (processor->isNoOp()) return;
     // One row of RGBA texels: OpenColorIO converts the first three channels and keeps alpha.
     processor->apply(&texels[0].r, int(texels.size()), 1, 4, sizeof(float), sizeof(glm::vec4),

@@ -159,12 +159,7 @@ void requirePlausibleExrTexture(const std::string& path) {
 // alpha, so OpenColorIO sees the encoded colour it expects; premultiplied after conversion.
 void decodeManaged(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, const ChannelLayout& layout,
                    bool file_is_straight, const TextureColour& colour, Texture2D& tex) {
-    const std::vector<float> raw = readPixels<float>(in, spec, OIIO::TypeDesc::FLOAT, tex.source);
-    decodeTexels(
-        raw, spec.nchannels, layout, false, [](float v) { return v; }, [](float v) { return v; }, tex.texels);
-    if (!file_is_straight)  // a premultiplied float file: the colour itself, before converting
-        for (glm::vec4& t : tex.texels)
-            if (t.a > 0.0f) t = glm::vec4(glm::vec3(t) / t.a, t.a);
+    // Which space the stored values are in is known from the header: fail before reading pixels.
     const bool integer = isIntegerFormat(spec.format);
     const std::string& from = integer ? colour.integer_space : colour.float_space;
     if (from.empty())
@@ -172,6 +167,12 @@ void decodeManaged(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, const Chan
                                      "give its 'colorspace', or the scene's texture_colorspaces.{}",
                                      tex.source, integer ? "an integer" : "a float", colour.config->file(),
                                      integer ? "integer" : "float"));
+    const std::vector<float> raw = readPixels<float>(in, spec, OIIO::TypeDesc::FLOAT, tex.source);
+    decodeTexels(
+        raw, spec.nchannels, layout, false, [](float v) { return v; }, [](float v) { return v; }, tex.texels);
+    if (!file_is_straight)  // a premultiplied float file: the colour itself, before converting
+        for (glm::vec4& t : tex.texels)
+            if (t.a > 0.0f) t = glm::vec4(glm::vec3(t) / t.a, t.a);
     colour.config->convert(tex.texels, from, colour.working_space);
     for (glm::vec4& t : tex.texels) t = glm::vec4(glm::vec3(t) * t.a, t.a);
 }
