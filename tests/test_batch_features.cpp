@@ -1,7 +1,7 @@
 // `decalcomp batch` features end to end through the CLI, each checked against single-frame
 // `decalcomp composite` where one exists: per-pass files per frame (--pass ATTR=PATTERN), folder
-// outputs and --resume with them, -o without a frame token, --add-channels, --preview patterns
-// and frames spread over several devices (--device cpu,cpu).
+// outputs and --resume with them, -o without a frame token, --add-channels, --preview patterns,
+// the contact sheet of the sequence and frames spread over several devices (--device cpu,cpu).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -256,6 +256,86 @@ TEST(BatchFeatures, TwoDevicesGiveTheSameBytesAsOne) {
         EXPECT_NE(r.output.find("--device " + bad + ": empty device in the list"), std::string::npos) << r.output;
         EXPECT_FALSE(fs::exists(s.dir.file("bad"))) << bad;
     }
+}
+
+// The contact sheet tiles every frame's composited albedo in frame order: with frames smaller than
+// a thumbnail, each cell is exactly the "after" half of that frame's preview (the same sRGB
+// encoding); 3 frames make a 2x2 grid whose fourth cell, no frame's, stays black.
+TEST(BatchFeatures, ContactSheetShowsEveryCompositedFrameInOrder) {
+    PassSequence s;
+    const std::string preview = s.dir.file("prev/prev.####.png"), sheet = s.dir.file("sheets/seq.png");
+    const auto r = s.batch(s.dir.file("out/comp.####.exr"),
+                           "--device cpu --preview " + shellQuote(preview) + " --contact-sheet " + shellQuote(sheet));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("contact sheet: " + sheet), std::string::npos) << r.output;
+    EXPECT_EQ(filesIn(s.dir.path() / "sheets"), (std::set<std::string>{"seq.png"})) << "no temporary left";
+    const Png p = readPng(sheet);
+    constexpr int kGap = 4, kColumns = 2;
+    ASSERT_EQ(p.width, kColumns * kWidth + 3 * kGap);
+    ASSERT_EQ(p.height, 2 * kHeight + 3 * kGap);
+    for (std::size_t i = 0; i < kFrames.size(); ++i) {
+        const Png frame = readPng(FramePattern(preview).path(kFrames[i]));
+        const int x0 = kGap + int(i % kColumns) * (kWidth + kGap), y0 = kGap + int(i / kColumns) * (kHeight + kGap);
+        std::size_t differing = 0;
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x)
+                for (int c = 0; c < 3; ++c) differing += p.at(x0 + x, y0 + y)[c] != frame.at(kWidth + kGap + x, y)[c];
+        EXPECT_EQ(differing, 0u) << "frame " << kFrames[i] << " in cell " << i;
+    }
+    const int x3 = kGap + (kWidth + kGap), y3 = kGap + (kHeight + kGap);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(p.at(x3 + 5, y3 + 5)[c], 0) << "the cell after the last frame";
+    EXPECT_EQ(p.at(1, 1)[0], 0) << "black gaps between cells";
+}
+
+// Frames a run did not composite keep their place as grey cells: one skipped by --resume here.
+TEST(BatchFeatures, ContactSheetKeepsSkippedFramesInPlace) {
+    PassSequence s;
+    const std::string out = s.dir.file("out/comp.####.exr"), sheet = s.dir.file("seq.png");
+    ASSERT_EQ(s.batch(out, "--device cpu --frames 2").exit_code, 0);
+    const auto r = s.batch(out, "--device cpu --resume --contact-sheet " + shellQuote(sheet));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const Png p = readPng(sheet);
+    constexpr int kGap = 4;
+    ASSERT_EQ(p.width, 2 * kWidth + 3 * kGap);
+    const auto cellIsGrey = [&](int cell) {
+        const int x0 = kGap + (cell % 2) * (kWidth + kGap), y0 = kGap + (cell / 2) * (kHeight + kGap);
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x)
+                for (int c = 0; c < 3; ++c)
+                    if (p.at(x0 + x, y0 + y)[c] != 64) return false;
+        return true;
+    };
+    EXPECT_FALSE(cellIsGrey(0)) << "frame 1 composited";
+    EXPECT_TRUE(cellIsGrey(1)) << "frame 2 skipped by --resume";
+    EXPECT_FALSE(cellIsGrey(2)) << "frame 3 composited";
+}
+
+// A sharded run writes one sheet per shard; a sheet that would replace something the batch reads
+// or writes is refused before any frame is written.
+TEST(BatchFeatures, ContactSheetPerShardAndNeverOverAnInput) {
+    PassSequence s;
+    const auto sharded = s.batch(s.dir.file("out/comp.####.exr"),
+                                 "--device cpu --shard 2/2 --contact-sheet " + shellQuote(s.dir.file("seq.png")));
+    ASSERT_EQ(sharded.exit_code, 0) << sharded.output;
+    EXPECT_TRUE(fs::exists(s.dir.file("seq.shard-2-of-2.png")));
+    EXPECT_FALSE(fs::exists(s.dir.file("seq.png")));
+
+    const std::string texture = (s.dir.path() / "red.png").string();
+    const std::string before = test::readFileBytes(texture);
+    struct Case {
+        std::string sheet, message;
+    };
+    for (const Case& c : {Case{texture, "the contact sheet would replace a texture of the scene"},
+                          Case{s.albedoAt(2), "give it a .png name"},
+                          Case{s.dir.file("prev/p.0003.png"), "the contact sheet would replace frame 3's preview"}}) {
+        const auto r = s.batch(s.dir.file("bad/comp.####.exr"), "--device cpu --preview " +
+                                                                     shellQuote(s.dir.file("prev/p.####.png")) +
+                                                                     " --contact-sheet " + shellQuote(c.sheet));
+        EXPECT_EQ(r.exit_code, 2) << r.output;
+        EXPECT_NE(r.output.find(c.message), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(s.dir.file("bad"))) << "nothing written: " << c.sheet;
+    }
+    EXPECT_EQ(test::readFileBytes(texture), before);
 }
 
 }  // namespace

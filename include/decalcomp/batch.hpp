@@ -22,6 +22,7 @@ struct BatchRequest {
     std::map<Attribute, std::string> pass_files;  // --pass ATTR=PATTERN (a path without a token: every frame)
     std::string output;   // frame pattern of the outputs, or a folder (a pattern may name one: out.####/)
     std::string preview;  // optional frame pattern of PNG previews
+    std::string contact_sheet;  // optional PNG of every frame's thumbnail (contact_sheet.hpp); per shard
     std::string frames;  // range spec; empty = every frame whose input exists
     std::string scene;   // decal scene JSON (may animate decals over frames)
     std::string ocio_config;  // OpenColorIO config for the scene's colour spaces ("" = $OCIO)
@@ -102,6 +103,7 @@ struct BatchReport {
     std::vector<std::string> warnings;  // distinct warnings, each as "frames 1-40: ..." (missing channels, masks)
     std::vector<std::string> beauty;    // "frames 1-40: rebuilt ViewLayer.Combined from ..." (FrameReport::beauty)
     std::vector<std::string> pixel_filter;  // "frames 1-40: blackman-harris:3 (profile blender)"
+    std::string contact_sheet;  // the sheet written (BatchRequest::contact_sheet for this shard), or ""
 };
 
 // Called on the thread that called runBatch, in frame (plan) order.

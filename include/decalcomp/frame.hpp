@@ -37,6 +37,9 @@ struct FrameTargets {
     std::string output;   // EXR to write, or a folder where each changed file keeps its name
     std::string preview;  // optional PNG: albedo (and lit normals) before | after
     bool overwrite_input = false;
+    // The caller reads gbuffer() after composite() (a batch's contact sheet): every pixel is decoded
+    // and the planes are extracted even on a frame where no decal is alive.
+    bool every_pixel = false;
     // Composite a scene the inputs' headers say was already composited into them (provenance.hpp);
     // without it prepare() refuses, since every decal would be stacked twice.
     bool force = false;
@@ -116,6 +119,8 @@ private:
     void recordProvenance(const DecalScene& scene);
     // How messages name this frame: FrameOptions::label, else the first input.
     const std::string& label() const { return options_.label.empty() ? sources_.inputs.front() : options_.label; }
+    // A preview or the caller (FrameTargets::every_pixel) looks at every pixel of the planes.
+    bool showsPixels() const { return !targets_.preview.empty() || targets_.every_pixel; }
 
     FrameSources sources_;
     FrameTargets targets_;

@@ -108,6 +108,7 @@ def batch(
     extra_inputs: Sequence[str] = (),
     passes: Optional[Mapping[str, str]] = None,
     preview: Optional[str] = None,
+    contact_sheet: Optional[str] = None,
     frames: Optional[str] = None,
     camera: Optional[str] = None,
     cameras: Optional[str] = None,

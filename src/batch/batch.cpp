@@ -22,6 +22,7 @@
 #include "decalcomp/batch.hpp"
 #include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/compositor.hpp"
+#include "decalcomp/contact_sheet.hpp"
 #include "decalcomp/device.hpp"
 #include "decalcomp/frame.hpp"
 #include "decalcomp/frame_cameras.hpp"
@@ -102,7 +103,11 @@ struct Job {
     std::string output;  // for reports: the output pattern's path (or folder)
     std::unique_ptr<Frame> work;
     std::optional<FrameResult> finished;  // skipped, or failed before its write: nothing to write
+    std::optional<Thumbnail> thumbnail;   // for the contact sheet, taken once the frame is composited
 };
+
+// The long side of a contact sheet's thumbnails, in pixels.
+constexpr int kThumbnailSize = 256;
 
 FrameResult failure(int frame, const std::string& output, const std::exception_ptr& error) {
     FrameResult r;
@@ -257,7 +262,8 @@ public:
           to_composite_(depth_),
           to_write_(depth_),
           in_flight_(int(2 * depth_) + workers_ + 1),
-          timings_(std::size_t(workers_) + 2) {}
+          timings_(std::size_t(workers_) + 2),
+          sheet_(int(s_.plan.frames.size())) {}
 
     ~Pipeline() {  // on an exception in the observer: stop and join the threads
         cancel();
@@ -273,6 +279,7 @@ public:
     std::vector<std::string> pixelFilterNotes() { return filter_notes_.list(); }
     BatchTimings timings() const;
     const ChunkWriteStats& chunks() const { return chunks_; }  // after run()
+    const ContactSheet& contactSheet() const { return sheet_; }  // after run(): the written frames' thumbnails
 
 private:
     SetUp s_;
@@ -288,6 +295,7 @@ private:
     WarningSet filter_notes_;  // the pixel filter each frame was integrated over, likewise
     std::vector<BatchTimings> timings_;  // reader, writer, then one per worker; summed at the end
     ChunkWriteStats chunks_;             // the writer thread's
+    ContactSheet sheet_;                 // likewise
     std::vector<std::thread> threads_;
 
     void cancel() {
@@ -334,7 +342,7 @@ Job Pipeline::readFrame(std::size_t index) {
         sources.camera = s_.cameras.explicitCamera(job.frame);
         sources.camera_file = s_.cameras.cameraFile(job.frame);
         FrameTargets targets{job.output, request.preview.empty() ? "" : pathAt(request.preview, job.frame),
-                             request.overwrite_input, request.force};
+                             request.overwrite_input, !request.contact_sheet.empty(), request.force};
         FrameOptions frame_options = s_.options;
         frame_options.frame_number = double(job.frame);
         job.work = std::make_unique<Frame>(std::move(sources), std::move(targets), std::move(frame_options));
@@ -372,6 +380,7 @@ void Pipeline::compositeFrame(Job& job, Compositor* compositor, BatchTimings& ti
             job.work->composite(*compositor);
             timings.kernels_ms += job.work->report().stats.totalKernelMs();
         }
+        if (!s_.request.contact_sheet.empty()) job.thumbnail = makeThumbnail(job.work->gbuffer(), kThumbnailSize);
         warnings_.add(job.frame, job.work->report().warnings);  // prepare's and composite's
         if (job.work->report().beauty.rebuilt) beauty_notes_.add(job.frame, {job.work->report().beauty.summary});
         if (!job.work->report().pixel_filter.empty()) filter_notes_.add(job.frame, {job.work->report().pixel_filter});
@@ -397,6 +406,7 @@ void Pipeline::writeFrames() {
             std::optional<Job> job = in_order.next();
             if (!job) break;
             const FrameResult result = job->finished ? *job->finished : writeFrame(*job);
+            if (result.status == FrameStatus::Written && job->thumbnail) sheet_.add(job->index, std::move(*job->thumbnail));
             job.reset();  // the frame's planes go before the next one is taken
             stopped = result.status == FrameStatus::Failed && !s_.request.keep_going;
             if (stopped) cancel();  // frames after the failure are dropped unwritten
@@ -529,6 +539,9 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     // After the scene: decoding its EXR textures through OpenImageIO may change the global count.
     Imf::setGlobalThreadCount(request.exr_threads > 0 ? request.exr_threads
                                                       : int(std::max(1u, std::thread::hardware_concurrency())));
+    const std::string sheet_path =
+        request.contact_sheet.empty() ? "" : contactSheetPath(request.contact_sheet, plan.shard.index, plan.shard.count);
+    if (!sheet_path.empty()) batch::checkContactSheet(request, plan, scene, sheet_path);
     batch::createOutputFolders(request, plan);
     batch::removeStaleTemporaries(request, plan);
     FrameOptions options;
@@ -549,6 +562,12 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     report.pixel_filter = pipeline.pixelFilterNotes();
     report.timings = pipeline.timings();
     report.chunks = pipeline.chunks();
+    // The sheet shows a finished run (failed frames of --keep-going as grey cells); a stopped run
+    // writes none, as it writes no frame after the failure.
+    if (!sheet_path.empty() && !stopped_by && !plan.frames.empty()) {
+        pipeline.contactSheet().write(sheet_path);
+        report.contact_sheet = sheet_path;
+    }
     watch.finished(report);
     if (stopped_by) {
         if (stopped_by->kind) throw Error(*stopped_by->kind, stopped_by->message);

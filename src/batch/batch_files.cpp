@@ -117,8 +117,36 @@ void requireRangeInputs(const BatchRequest& request, const BatchPlan& plan, cons
                     first.path, first.field, first.problem, others, missing.size() == 1 ? "it" : "them"));
 }
 
+void checkContactSheet(const BatchRequest& request, const BatchPlan& plan, const DecalScene& scene,
+                       const std::string& sheet) {
+    std::string ext = fs::path(sheet).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".png")
+        throw Error(ErrorKind::Usage, fmt::format("--contact-sheet {}: the sheet is written as PNG; give it a .png name", sheet));
+    std::vector<std::pair<std::string, std::string>> files = {  // path, what it is
+        {request.scene, "the scene"}, {request.ocio_config, "the OpenColorIO config"}, {request.cameras, "the cameras file"}};
+    for (const std::string& profile : request.mapping.profile_files) files.emplace_back(profile, "a profile");
+    for (const Texture2D& texture : scene.textures) files.emplace_back(texture.source, "a texture of the scene");
+    for (const RestMesh& mesh : scene.meshes) files.emplace_back(mesh.source, "a rest mesh of the scene");
+    for (int frame : plan.frames) {
+        const FrameSources sources = frameSources(request, plan, frame);
+        for (const std::string& input : sources.inputs) files.emplace_back(input, fmt::format("frame {}'s input", frame));
+        for (const auto& [attribute, path] : sources.pass_files)
+            files.emplace_back(path, fmt::format("frame {}'s --pass {}", frame, attributeName(attribute)));
+        for (const fs::path& out : candidateOutputs(request, plan, frame))
+            files.emplace_back(out.string(), fmt::format("frame {}'s output", frame));
+        if (!request.preview.empty()) files.emplace_back(pathAt(request.preview, frame), fmt::format("frame {}'s preview", frame));
+        if (!request.camera.empty()) files.emplace_back(pathAt(request.camera, frame), fmt::format("frame {}'s camera", frame));
+    }
+    for (const auto& [path, what] : files)
+        if (!path.empty() && sameFile(sheet, path))
+            throw Error(ErrorKind::Usage,
+                        fmt::format("--contact-sheet {}: the contact sheet would replace {} ({})", sheet, what, path));
+}
+
 void createOutputFolders(const BatchRequest& request, const BatchPlan& plan) {
     std::set<fs::path> folders;
+    if (!request.contact_sheet.empty()) folders.insert(fs::path(request.contact_sheet).parent_path());
     for (int frame : plan.frames) {
         for (const fs::path& out : candidateOutputs(request, plan, frame)) folders.insert(out.parent_path());
         if (!request.preview.empty()) folders.insert(fs::path(pathAt(request.preview, frame)).parent_path());

@@ -8,6 +8,7 @@
 #include "decalcomp/batch.hpp"
 #include "decalcomp/frame.hpp"
 #include "decalcomp/frame_cameras.hpp"
+#include "decalcomp/scene.hpp"
 
 namespace decalcomp::batch {
 
@@ -31,7 +32,14 @@ bool frameDone(const BatchRequest& request, const BatchPlan& plan, int frame);
 // written.
 void requireRangeInputs(const BatchRequest& request, const BatchPlan& plan, const FrameCameras& cameras);
 
-// Creates the folders of every frame's outputs and previews; Error(Output) when one cannot be.
+// Before any frame starts: the contact sheet `sheet` has a .png name and is none of the files the
+// batch reads or writes (any frame's inputs, --pass files, outputs or previews, the scene and its
+// textures and meshes, camera files, profiles, the OpenColorIO config), compared as pipeline.hpp's
+// sameFile does. Error(Usage).
+void checkContactSheet(const BatchRequest& request, const BatchPlan& plan, const DecalScene& scene,
+                       const std::string& sheet);
+
+// Creates the folders of every frame's outputs and previews (and the contact sheet's); Error(Output) when one cannot be.
 void createOutputFolders(const BatchRequest& request, const BatchPlan& plan);
 
 // Temporaries (".NAME.tmp-PID", decalcomp/temporary_files.hpp) that a killed run left for this

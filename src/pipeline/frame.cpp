@@ -50,7 +50,7 @@ std::vector<Decal> Frame::frameDecals(const DecalScene& scene) const {
 ExrReadRegion Frame::readRegion(const DecalScene& scene) const {
     const ExrReadRegion everything;
     // A preview shows every pixel; a new channel is written into every chunk.
-    if (!targets_.preview.empty() || !options_.mapping.add_channels.empty()) return everything;
+    if (showsPixels() || !options_.mapping.add_channels.empty()) return everything;
     if (hasTextureSpaceDecals(scene)) return everything;  // they go wherever their object is seen
     const std::vector<Decal> decals = frameDecals(scene);
     if (decals.empty()) return ExrReadRegion{false, {}};
@@ -124,7 +124,7 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
             label()));
         decals_.clear();
     }
-    if (decals_.empty() && targets_.preview.empty()) {  // nothing alive (or visible) on this frame: written as read
+    if (decals_.empty() && !showsPixels()) {  // nothing alive (or visible) on this frame: written as read
         prepared_ = true;
         return;
     }

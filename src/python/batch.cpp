@@ -51,7 +51,7 @@ private:
 
 py::dict batch(const std::string& input, const std::string& output, const std::string& scene, const py::kwargs& kwargs) {
     rejectUnknown(kwargs,
-                  {"extra_inputs", "passes", "preview", "frames", "camera", "cameras", "device", "overwrite_input", "force",
+                  {"extra_inputs", "passes", "preview", "contact_sheet", "frames", "camera", "cameras", "device", "overwrite_input", "force",
                    "resume", "keep_going", "shard", "threads", "queue", "workers", "progress", "profile",
                    "profile_files", "layer", "channels", "depth", "reversed_z", "normals", "add_channels",
                    "pixel_filter", "binned", "ocio"},
@@ -65,6 +65,7 @@ py::dict batch(const std::string& input, const std::string& output, const std::s
         if (auto v = argument(kwargs, key)) into = v.cast<std::remove_reference_t<decltype(into)>>();
     };
     set("preview", r.preview);
+    set("contact_sheet", r.contact_sheet);
     set("frames", r.frames);
     set("camera", r.camera);
     set("cameras", r.cameras);
@@ -108,6 +109,7 @@ py::dict batch(const std::string& input, const std::string& output, const std::s
     d["failures"] = failures;
     d["chunks_copied"] = report.chunks.copied;
     d["chunks_reencoded"] = report.chunks.reencoded;
+    d["contact_sheet"] = report.contact_sheet;
     return d;
 }
 

@@ -1,6 +1,7 @@
 """decalcomp.batch is `decalcomp batch`: same files, a progress callback per frame, failures as data
 with keep_going and as the CLI's error without it."""
 import shutil
+import subprocess
 
 import pytest
 
@@ -30,6 +31,20 @@ def test_batch_writes_the_clis_files(cli, sequence, tmp_path):
     for n in (1, 2, 3):
         name = f"out.{n:04d}.exr"
         assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+
+
+def test_contact_sheet_is_the_clis(cli, sequence, tmp_path):
+    (sequence / "frame.0002.exr").write_bytes(b"not an exr")  # a grey cell in both sheets
+    report = decalcomp.batch(str(sequence / "frame.####.exr"), str(tmp_path / "py" / "out.####.exr"),
+                             str(SAMPLE / "scene.json"), camera=str(SAMPLE / "camera.json"), device="cpu",
+                             keep_going=True, contact_sheet=str(tmp_path / "py.png"))
+    assert report["contact_sheet"] == str(tmp_path / "py.png") and report["failed"] == 1
+    result = subprocess.run([str(cli), "batch", str(sequence / "frame.####.exr"), "-o", str(tmp_path / "cli" / "out.####.exr"),
+                             "--decals", str(SAMPLE / "scene.json"), "--camera", str(SAMPLE / "camera.json"),
+                             "--device", "cpu", "-q", "--keep-going", "--contact-sheet", str(tmp_path / "cli.png")],
+                            capture_output=True, text=True)
+    assert result.returncode != 0, "frame 2 failed"
+    assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
 
 
 def test_keep_going_reports_failures(sequence, tmp_path):

@@ -49,6 +49,7 @@ void run(BatchFlags& f) {
     if (!f.quiet) {
         for (const std::string& note : report.beauty) std::cout << "beauty: " << note << "\n";
         for (const std::string& note : report.pixel_filter) std::cout << "pixel filter: " << note << "\n";
+        if (!report.contact_sheet.empty()) std::cout << "contact sheet: " << report.contact_sheet << "\n";
     }
     if (f.timing) {
         const BatchTimings& t = report.timings;
@@ -91,6 +92,9 @@ Command addBatchCommand(CLI::App& app) {
                     "Output frame pattern, or a folder where each changed file keeps its name (folders are created)")
         ->required();
     cmd->add_option("--preview", r.preview, "Also write a PNG per frame (a pattern: preview.####.png)");
+    cmd->add_option("--contact-sheet", r.contact_sheet,
+                    "Also write one PNG with a thumbnail of every composited frame, in frame order (a sharded run "
+                    "writes NAME.shard-K-of-N.png per shard)");
     cmd->add_option("--decals", r.scene, "Decal scene JSON; decals may have lifetimes and keyframes");
     addOcioOption(*cmd, r.ocio_config);
     cmd->add_option("--frames", r.frames, "Frames: 1-240, 1-240x2, 1,5,10-20 (default: every input that exists)");
