@@ -118,6 +118,16 @@ inline bool dc_targets(__constant const DcFrame* frame, __global const DcDecal* 
     return (frame->attributes & (1 << target)) && d->factor[target] > 0.0f;
 }
 
+/* A texture set's coverage: the albedo's alpha; without an albedo, the first texture of the set's
+ * (also what a UV-space bake stores, kernels/bake.cl). */
+inline float dc_set_coverage(__global const DcDecal* d, float4 albedo, float4 normal, float4 orm, float4 emission) {
+    return d->texture >= 0            ? albedo.w
+           : d->normal_texture >= 0   ? normal.w
+           : d->orm_texture >= 0      ? orm.w
+           : d->emission_texture >= 0 ? emission.w
+                                      : 1.0f;
+}
+
 /* Blends one decal into the surface. `weight` is opacity times mask; `surface_normal` the
  * G-buffer's normal in camera space (valid when the frame has normals). `variant` (DC_VARIANT_x, a
  * literal per kernel) compiles away what the kernel excludes. */
@@ -140,11 +150,7 @@ DC_INLINE DcSurface dc_apply_decal(__constant const DcFrame* frame, __global con
         orm = dc_lookup_texel(d, lk, textures, texels, d->orm_texture, variant);
     if (d->emission_texture >= 0 && (want_emission || (d->texture < 0 && d->normal_texture < 0 && d->orm_texture < 0)))
         emission = dc_lookup_texel(d, lk, textures, texels, d->emission_texture, variant);
-    const float coverage = d->texture >= 0            ? albedo.w
-                           : d->normal_texture >= 0   ? normal.w
-                           : d->orm_texture >= 0      ? orm.w
-                           : d->emission_texture >= 0 ? emission.w
-                                                      : 1.0f;
+    const float coverage = dc_set_coverage(d, albedo, normal, orm, emission);
     const float g = coverage * lk.fade * weight; /* before each target's factor */
     if (!(g > 0.0f)) return s;
     float3 v;

@@ -5,7 +5,8 @@
 #include "rest_pose.h"
 #include "shared_types.h"
 
-/* Writes points[i] = (rest point, triangle + 1), or 0 where the pixel is not the object's or no
+/* Bake-mode bindings (uv_only) get points[i] = (u, v, 0, 1) for the object's pixels instead.
+ * Writes points[i] = (rest point, triangle + 1), or 0 where the pixel is not the object's or no
  * triangle holds its UV (within 1e-5 barycentric: the most inside of the cell's candidates), and
  * weights[i] = the triangle's barycentric weights. Triangle numbers stay exact below 2^24. */
 __kernel void dc_rest_lookup(__constant const DcFrame* frame, __global const DcRestBinding* bindings, int b,
@@ -21,6 +22,11 @@ __kernel void dc_rest_lookup(__constant const DcFrame* frame, __global const DcR
     float2 uv = uv_plane[i];
     if (g->flip_v) uv.y = 1.0f - uv.y;
     const bool selected = g->mask < 0 || mask_weights[(size_t)g->mask * pixels + i] > 0.0f;
+    if (g->uv_only) { /* bake mode: the pixel's UV is all its decals need (rest_pose.h) */
+        rest_points[(size_t)b * pixels + i] = selected && all(isfinite(uv)) ? (float4)(uv, 0.0f, 1.0f) : (float4)(0.0f);
+        rest_frames[(size_t)b * pixels + i] = (float4)(0.0f, 0.0f, 0.0f, 1.0f);
+        return;
+    }
     const float2 cell = (uv - vload2(0, g->uv_origin)) * vload2(0, g->cells_per_uv);
     if (selected && all(isfinite(uv)) && cell.x >= -1e-3f && cell.y >= -1e-3f && cell.x <= g->cells_x + 1e-3f &&
         cell.y <= g->cells_y + 1e-3f) {

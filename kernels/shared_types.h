@@ -159,6 +159,9 @@ typedef struct {
     /* texture-space decal (rest_pose.h): its DcRestBinding, -1 = a world decal. Then "camera space"
      * in the fields above is the rest mesh's object space. */
     DC_INT rest_binding;
+    /* 1: a texture-space decal in bake mode (kernels/bake.cl): its textures are its UV-space bake,
+     * looked up at the pixel's UV (the rest pass leaves UVs, not rest points, for its binding) */
+    DC_INT rest_baked;
 } DcDecal;
 
 /* A texture-space binding (docs/texture-space.md): a rest mesh's UV grid and the mask of the object
@@ -171,8 +174,18 @@ typedef struct {
     DC_INT first_cell; /* the grid's cells_x * cells_y + 1 offsets (into the triangle list) start here */
     DC_INT mask;       /* weight plane of the object's pixels; -1: every pixel */
     DC_INT flip_v;     /* 1: the UV pass counts v from the top, the mesh from the bottom */
-    DC_INT pad0, pad1, pad2;
+    DC_INT uv_only;    /* 1: bake mode: the rest pass leaves (u, v) per object pixel, no triangle search */
+    DC_INT pad1, pad2;
 } DcRestBinding;
+
+/* One UV-space bake (kernels/bake.cl): a width x height layer, row 0 at v = 1 (the top of the
+ * image, as DCCs show UV layouts); texels within `dilation` texels of an island get values from
+ * across its border (docs/texture-space.md "Bake mode"). Grids: the rest mesh's and its apron's. */
+typedef struct {
+    DC_INT width, height;
+    DC_INT dilation;
+    DC_INT pad0;
+} DcBakeLayer;
 
 /* Where a texture's texels (float4, premultiplied linear RGBA, top row first) start. */
 typedef struct {

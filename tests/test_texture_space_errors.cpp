@@ -86,7 +86,8 @@ TEST(TextureSpaceScene, FieldsThatDoNotFitAreErrors) {
     const std::string mesh = deform("mesh_rest.obj");
     test::expectSceneError(writeScene(dir, mesh, {{"space", "world"}}), "decals[0].mesh: belongs to texture-space decals");
     test::expectSceneError(writeScene(dir, mesh, {{"pass_index", nullptr}}), "needs the object it sticks to");
-    test::expectSceneError(writeScene(dir, mesh, {{"mode", "bake"}}), "decals[0].mode: the 'bake' mode is not available");
+    test::expectSceneError(writeScene(dir, mesh, {{"bake_resolution", 512}}), "decals[0].bake_resolution: belongs to bake mode");
+    test::expectSceneError(writeScene(dir, mesh, {{"mode", "bake"}, {"bake_dilation", -1}}), "decals[0].bake_dilation: expected an integer in [0, 1024]");
     test::expectSceneError(writeScene(dir, mesh, {{"space", "object"}}), "decals[0].space: expected one of: world, object_rest");
     test::expectSceneError(writeScene(dir, mesh, {{"mask", {{"ids", {2}}}}}), "decals[0].mask: give the decal's object");
     test::expectSceneError(

@@ -102,6 +102,9 @@ struct DecalOcclusion {
 // Where a decal is placed (docs/texture-space.md): in the world, or on an object's rest-pose
 // mesh, reached per pixel through the frame's UV pass so the decal sticks to the deforming surface.
 enum class DecalSpace { World, ObjectRest };
+// How a texture-space decal reaches a pixel: through its rest point (exact), or through a UV-space
+// bake of the decal read at the pixel's UV (bake, seed 003; docs/texture-space.md "Bake mode").
+enum class RestMode { Exact, Bake };
 
 struct Decal {
     std::string name;
@@ -110,6 +113,14 @@ struct Decal {
     glm::dmat4 world_matrix{1.0};
     DecalSpace space = DecalSpace::World;
     int rest_mesh = -1;  // ObjectRest: index into DecalScene::meshes; `mask` selects the object's pixels
+    RestMode rest_mode = RestMode::Exact;  // ObjectRest only
+    int bake_resolution = 2048;  // Bake: the layer's texels per side
+    int bake_dilation = 8;       // Bake: texels beyond island borders that get values (0: none)
+    // Bake: names the decal's bake across sceneAtFrame/setDecals (the scene loader numbers bake
+    // decals; -1: its index in the scene's decal list). `baked`: the textures already are the bake
+    // (bakedDecal(), or a reused "baked" file), looked up at the pixel's UV.
+    int bake_slot = -1;
+    bool baked = false;
     int albedo_texture = -1;       // index into DecalScene::textures, -1 = none
     // The rest of the texture set (seed 002), same shape as the albedo (2D, volume or cube):
     // a tangent-space normal map (OpenGL, +Y up; data, not colour), occlusion/roughness/metallic

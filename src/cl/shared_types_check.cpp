@@ -59,7 +59,7 @@ DC_CHECK(DC_OFFSET(DcFrame, pad3) == 332);
 DC_CHECK(DC_OFFSET(DcFrame, filter_offset) == 336);
 DC_CHECK(DC_OFFSET(DcFrame, filter_weight) == 368);
 
-DC_CHECK(sizeof(DcDecal) == 304);
+DC_CHECK(sizeof(DcDecal) == 308);
 DC_CHECK(DC_OFFSET(DcDecal, camera_to_local) == 0);
 DC_CHECK(DC_OFFSET(DcDecal, local_to_camera) == 48);
 DC_CHECK(DC_OFFSET(DcDecal, kind) == 96);
@@ -94,6 +94,7 @@ DC_CHECK(DC_OFFSET(DcDecal, occlusion_height) == 280);
 DC_CHECK(DC_OFFSET(DcDecal, occlusion_bias) == 284);
 DC_CHECK(DC_OFFSET(DcDecal, local_scale) == 288);
 DC_CHECK(DC_OFFSET(DcDecal, rest_binding) == 300);
+DC_CHECK(DC_OFFSET(DcDecal, rest_baked) == 304);
 
 DC_CHECK(sizeof(DcRestBinding) == 48);
 DC_CHECK(DC_OFFSET(DcRestBinding, uv_origin) == 0);
@@ -103,7 +104,12 @@ DC_CHECK(DC_OFFSET(DcRestBinding, cells_y) == 20);
 DC_CHECK(DC_OFFSET(DcRestBinding, first_cell) == 24);
 DC_CHECK(DC_OFFSET(DcRestBinding, mask) == 28);
 DC_CHECK(DC_OFFSET(DcRestBinding, flip_v) == 32);
-DC_CHECK(DC_OFFSET(DcRestBinding, pad0) == 36);
+DC_CHECK(DC_OFFSET(DcRestBinding, uv_only) == 36);
+
+DC_CHECK(sizeof(DcBakeLayer) == 16);
+DC_CHECK(DC_OFFSET(DcBakeLayer, width) == 0);
+DC_CHECK(DC_OFFSET(DcBakeLayer, height) == 4);
+DC_CHECK(DC_OFFSET(DcBakeLayer, dilation) == 8);
 
 DC_CHECK(sizeof(DcTexture) == 32);
 DC_CHECK(DC_OFFSET(DcTexture, offset) == 0);

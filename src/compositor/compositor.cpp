@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <string>
 #include <cstring>
+#include <map>
 
 #include "compositor/beauty_transfer.hpp"
 #include "compositor/device_buffers.hpp"
@@ -17,6 +18,7 @@
 #include "compositor/rest_pass.hpp"
 #include "compositor/staged_buffer.hpp"
 #include "compositor/surface_planes.hpp"
+#include "decalcomp/bake.hpp"
 #include "decalcomp/error.hpp"
 
 namespace decalcomp {
@@ -93,6 +95,8 @@ struct Compositor::State {
     DecalScene scene;                           // decals only; textures live on the device
     RestMeshBuffers rest_meshes;                // texture-space decals' meshes, on the device
     RestPassBuffers rest_pass;                  // their per-frame rest points and rotations
+    // bake-mode decals' layers (bake.hpp), by bake slot: their scene texture indices, -1 = none
+    std::map<int, std::array<int, 3>> bakes;
 
     // per frame, kept alive until the queue has passed their (non-blocking) uploads
     cl_types::DcFrame frame_params{};
@@ -137,8 +141,35 @@ Compositor::Compositor(ComputeDevice& device) : device_(device) {
 
 Compositor::~Compositor() = default;
 
+namespace {
+
+bool needsBake(const Decal& d) { return d.space == DecalSpace::ObjectRest && d.rest_mode == RestMode::Bake && !d.baked; }
+int bakeSlot(const Decal& d, std::size_t index) { return d.bake_slot >= 0 ? d.bake_slot : int(index); }
+
+}  // namespace
+
 void Compositor::setScene(const DecalScene& scene) {
-    const PackedTextures packed = packTextures(scene.textures);
+    // Bake-mode decals are baked here, once per scene: their layers join the textures.
+    std::vector<Texture2D> baked_textures;
+    state_->bakes.clear();
+    for (std::size_t k = 0; k < scene.decals.size(); ++k) {
+        const Decal& d = scene.decals[k];
+        if (!needsBake(d) || state_->bakes.count(bakeSlot(d, k))) continue;
+        BakedLayers layers = bakeDecal(device_, scene, d);
+        auto add = [&](Texture2D* layer) {
+            if (!layer) return -1;
+            baked_textures.push_back(std::move(*layer));
+            return int(scene.textures.size() + baked_textures.size()) - 1;
+        };
+        state_->bakes[bakeSlot(d, k)] = {add(&layers.albedo), add(layers.orm ? &*layers.orm : nullptr),
+                                         add(layers.emission ? &*layers.emission : nullptr)};
+    }
+    std::vector<Texture2D> with_bakes;
+    if (!baked_textures.empty()) {
+        with_bakes = scene.textures;
+        for (Texture2D& t : baked_textures) with_bakes.push_back(std::move(t));
+    }
+    const PackedTextures packed = packTextures(baked_textures.empty() ? scene.textures : with_bakes);
     try {
         state_->texture_table = makeBuffer(device_.context(), packed.table);
         state_->texels = makeBuffer(device_.context(), packed.texels);
@@ -153,8 +184,17 @@ void Compositor::setScene(const DecalScene& scene) {
     setDecals(scene.decals);
 }
 
-void Compositor::setDecals(const std::vector<Decal>& decals) {
+void Compositor::setDecals(const std::vector<Decal>& input) {
     const int textures = int(state_->texture_entries.size());
+    std::vector<Decal> decals = input;
+    for (std::size_t k = 0; k < decals.size(); ++k) {
+        if (!needsBake(decals[k])) continue;
+        const auto bake = state_->bakes.find(bakeSlot(decals[k], k));
+        if (bake == state_->bakes.end())
+            throw inputError(fmt::format("decal '{}': bake mode, and the scene set had no such decal to bake",
+                                         decals[k].name));
+        decals[k] = bakedDecal(decals[k], bake->second[0], bake->second[1], bake->second[2]);
+    }
     for (const Decal& d : decals) {
         for (int index : {d.albedo_texture, d.normal_texture, d.orm_texture, d.emission_texture})
             if (index >= textures)

@@ -135,6 +135,7 @@ std::vector<cl_types::DcDecal> makeDecalParams(const DecalScene& scene, const Ca
         storeRowMajor(camera_to_local, d.camera_to_local, 3);
         storeRowMajor(to_camera * decal.world_matrix, d.local_to_camera, 3);
         d.rest_binding = -1;  // bindRestDecals() sets texture-space decals' bindings
+        d.rest_baked = decal.baked ? 1 : 0;
         for (int r = 0; r < 3; ++r)
             d.local_scale[r] = float(glm::length(glm::dvec3(camera_to_local[0][r], camera_to_local[1][r], camera_to_local[2][r])));
         d.kind = kindCode(decal.kind);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <map>
+#include <tuple>
 #include <utility>
 
 #include "decalcomp/error.hpp"
@@ -54,23 +55,24 @@ RestMeshBuffers uploadRestMeshes(cl::Context& context, const std::vector<RestMes
 RestBindings bindRestDecals(const std::vector<Decal>& decals, const RestMeshBuffers& meshes, bool uv_v_down,
                             std::vector<cl_types::DcDecal>& params) {
     RestBindings out;
-    std::map<std::pair<int, int>, int> index;  // (mesh, mask) -> binding
+    std::map<std::tuple<int, int, bool>, int> index;  // (mesh, mask, baked) -> binding
     for (std::size_t k = 0; k < decals.size(); ++k) {
         const Decal& decal = decals[k];
         params.at(k).rest_binding = -1;
         if (decal.space != DecalSpace::ObjectRest) continue;
         if (decal.rest_mesh < 0 || std::size_t(decal.rest_mesh) >= meshes.grids.size())
             throw inputError(fmt::format("decal '{}': rest mesh index {} out of range", decal.name, decal.rest_mesh));
-        const auto key = std::make_pair(decal.rest_mesh, decal.mask);
+        const auto key = std::make_tuple(decal.rest_mesh, decal.mask, decal.baked);
         auto [it, inserted] = index.emplace(key, int(out.bindings.size()));
         if (inserted) {
             cl_types::DcRestBinding b = meshes.grids[std::size_t(decal.rest_mesh)];
             b.mask = decal.mask;
             b.flip_v = uv_v_down ? 1 : 0;
+            b.uv_only = decal.baked ? 1 : 0;  // bake mode reads UVs (kernels/rest_pose.h)
             out.bindings.push_back(b);
         }
         params[k].rest_binding = it->second;
-        out.needs_frames |= decalAffects(decal, DecalTarget::Normal) || decal.angle_fade_deg[1] > 0.0;
+        out.needs_frames |= !decal.baked && (decalAffects(decal, DecalTarget::Normal) || decal.angle_fade_deg[1] > 0.0);
     }
     return out;
 }
@@ -110,9 +112,10 @@ std::vector<cl::Event> enqueueRestPass(cl::Context& context, cl::CommandQueue& q
                                              meshes.cell_triangles, buffers.points, buffers.frames));
     if (!rest.needs_frames) return events;
     for (std::size_t b = 0; b < count; ++b)
-        events.push_back(kernels.rest_frame(cl::EnqueueArgs(queue, range, group), frame_params, cl_int(b), depth, position,
-                                            surface1, meshes.vertices, meshes.triangles, buffers.points,
-                                            buffers.frames));
+        if (!rest.bindings[b].uv_only)
+            events.push_back(kernels.rest_frame(cl::EnqueueArgs(queue, range, group), frame_params, cl_int(b), depth,
+                                                position, surface1, meshes.vertices, meshes.triangles, buffers.points,
+                                                buffers.frames));
     return events;
 }
 

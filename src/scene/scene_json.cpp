@@ -86,6 +86,7 @@ struct ParsedDecal {
     Decal decal;
     TextureSetRequest texture;
     int priority = 0;
+    std::string path;  // its JSON path, for errors found after parsing
 };
 
 class SceneParser {
@@ -127,6 +128,7 @@ public:
             p.decal.normal_texture = index(p.texture.normal);
             p.decal.orm_texture = index(p.texture.orm);
             p.decal.emission_texture = index(p.texture.emission);
+            attachBake(p, scene);
         }
         // Lower priority blends first; equal priorities keep file order (stable).
         std::stable_sort(parsed.begin(), parsed.end(),
@@ -275,6 +277,7 @@ private:
         j.requireObject("an object");
         // Kind first: fields of future kinds should read as "unsupported kind", not "unknown key".
         ParsedDecal p;
+        p.path = j.path();
         if (const auto kind = j.optional("kind")) {
             const auto known = scene_detail::kindFromName(kind->string());
             if (!known)
@@ -305,6 +308,37 @@ private:
             p.decal.mask = scene_detail::parseAndInternMask(*mask, masks_);
         scene_detail::parseDecalSpace(j, p.decal, meshes_, masks_);
         return p;
+    }
+
+    // Bake mode (docs/texture-space.md "Bake mode"): no normal maps; a reused "baked" file's layers
+    // join the textures and the decal reads them.
+    void attachBake(ParsedDecal& p, DecalScene& scene) const {
+        if (p.decal.space != DecalSpace::ObjectRest || p.decal.rest_mode != RestMode::Bake) return;
+        if (decalAffects(p.decal, DecalTarget::Normal))
+            throw jsonFieldError(file_, p.path + ".mode",
+                                 "bake mode does not carry normal maps (the bake holds colours, not the surface's "
+                                 "frame); use \"exact\" for this decal");
+        const auto file = meshes_.baked_files.find(p.decal.bake_slot);
+        if (file == meshes_.baked_files.end()) return;
+        BakedLayers& layers = file->second;
+        auto add = [&](std::optional<Texture2D>& layer, bool wanted, const char* name) {
+            if (!wanted) return -1;
+            if (!layer)
+                throw jsonFieldError(file_, p.path + ".baked",
+                                     fmt::format("the baked file has no {} layer, which this decal writes; re-run "
+                                                 "decalcomp bake",
+                                                 name));
+            scene.textures.push_back(std::move(*layer));
+            return int(scene.textures.size()) - 1;
+        };
+        std::optional<Texture2D> albedo(std::move(layers.albedo));
+        const int a = add(albedo, true, "albedo");
+        const int orm = add(layers.orm,
+                            decalAffects(p.decal, DecalTarget::Roughness) || decalAffects(p.decal, DecalTarget::Metallic) ||
+                                decalAffects(p.decal, DecalTarget::AmbientOcclusion),
+                            "orm");
+        const int emission = add(layers.emission, decalAffects(p.decal, DecalTarget::Emission), "emission");
+        p.decal = bakedDecal(p.decal, a, orm, emission);
     }
 
     // A listed target with neither a map nor a constant would silently do nothing: a mistake.

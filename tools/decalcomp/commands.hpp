@@ -17,6 +17,7 @@ Command addCompositeCommand(CLI::App& app);
 Command addInfoCommand(CLI::App& app);
 Command addDevicesCommand(CLI::App& app);
 Command addBatchCommand(CLI::App& app);  // cmd_batch.cpp
+Command addBakeCommand(CLI::App& app);   // cmd_bake.cpp
 
 // --profile, --profile-file, --layer, --channel, --depth, --reversed-z, --normals: shared by
 // composite, batch and info; --add-channels only where something is written (`writes`).

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
     const auto info = decalcomp::cli::addInfoCommand(app);
     const auto devices = decalcomp::cli::addDevicesCommand(app);
     const auto batch = decalcomp::cli::addBatchCommand(app);
+    const auto bake = decalcomp::cli::addBakeCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {  // --help, --version
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
         else if (app.got_subcommand("info")) info();
         else if (app.got_subcommand("devices")) devices();
         else if (app.got_subcommand("batch")) batch();
+        else if (app.got_subcommand("bake")) bake();
         return 0;
     } catch (const decalcomp::Error& e) {
         std::cerr << "decalcomp: error: " << e.what() << "\n";
