@@ -149,14 +149,17 @@ __kernel void dc_bake_layer(__constant const DcBakeLayer* layer, __global const 
     float3 v = (float3)(0.0f);
     const bool has_albedo = dc_value3(d, DC_TARGET_ALBEDO, d->albedo_value, d->texture, albedo, &v);
     albedo_out[out] = has_albedo ? (float4)(v * c, c) : (float4)(0.0f, 0.0f, 0.0f, c); /* coverage always */
-    /* ORM per channel: the decal's constant where it has one, else the ORM texture's */
+    /* ORM per channel: the decal's constant where it has one, else the ORM map's. Where the decal has
+     * an ORM map and it is transparent, exact mode leaves the map's channels alone: the texel stays
+     * empty and the baked decal applies its constants itself (bakedDecal keeps them). */
     float3 straight_orm = (float3)(0.0f);
     const bool has_orm_texture = d->orm_texture >= 0 && dc_straight(orm, &straight_orm);
     const float3 orm_value = (float3)((d->value_mask & (1 << DC_TARGET_AO)) ? d->ao_value : straight_orm.x,
                                       (d->value_mask & (1 << DC_TARGET_ROUGHNESS)) ? d->roughness_value : straight_orm.y,
                                       (d->value_mask & (1 << DC_TARGET_METALLIC)) ? d->metallic_value : straight_orm.z);
     const int orm_constants = (1 << DC_TARGET_AO) | (1 << DC_TARGET_ROUGHNESS) | (1 << DC_TARGET_METALLIC);
-    orm_out[out] = dc_bake_texel(has_orm_texture || (d->value_mask & orm_constants) != 0, orm_value, c);
+    const bool has_orm = d->orm_texture >= 0 ? has_orm_texture : (d->value_mask & orm_constants) != 0;
+    orm_out[out] = dc_bake_texel(has_orm, orm_value, c);
     const bool has_emission = dc_value3(d, DC_TARGET_EMISSION, d->emission_value, d->emission_texture, emission, &v);
     emission_out[out] = dc_bake_texel(has_emission, v, c);
 }

@@ -157,6 +157,51 @@ TEST(TextureSpaceBake, DilationClosesTheSeamCrack) {
     EXPECT_EQ(with, 0u);
 }
 
+// A decal with an ORM map and an ORM constant: where the map is transparent but the albedo is not,
+// exact mode applies the constant (roughness) and leaves the map's channels (ao, metallic) alone;
+// the bake must too (it used to bake 0 into them there).
+TEST(TextureSpaceBake, TransparentOrmMapLeavesItsChannelsAloneAsInExactMode) {
+    ComputeDevice& device = cpuDevice();
+    const RestMesh tube = synth::tubeMesh(48, 24);
+    synth::MeshFrame frame = renderTube(tube, 10.0, 30.0);
+    for (Attribute a : {Attribute::Roughness, Attribute::Metallic, Attribute::AmbientOcclusion}) {
+        Plane p;
+        p.components = 1;
+        p.samples.assign(frame.gbuffer.pixelCount(), 0.5f);
+        frame.gbuffer.planes[a] = p;
+    }
+    auto scene = [&](RestMode mode) {
+        DecalScene s = seamScene(tube, mode, 2048, 8, true);  // opaque albedo everywhere
+        Texture2D orm;  // left half transparent, right half ao 0.2, roughness 0.9, metallic 1
+        orm.source = "orm";
+        orm.width = 2;
+        orm.height = 1;
+        orm.texels = {glm::vec4(0.0f), glm::vec4(0.2f, 0.9f, 1.0f, 1.0f)};
+        s.textures.push_back(orm);
+        s.decals[0].orm_texture = 1;
+        s.decals[0].effect(DecalTarget::Roughness).value = glm::vec3(0.7f);
+        return s;
+    };
+    const GBuffer exact = composite(device, scene(RestMode::Exact), frame);
+    const GBuffer baked = composite(device, scene(RestMode::Bake), frame);
+    std::size_t decal = 0, transparent = 0, off = 0;
+    for (std::size_t i = 0; i < exact.pixelCount(); ++i) {
+        if (exact.planes.at(Attribute::Albedo).at(i, 0) == frame.gbuffer.planes.at(Attribute::Albedo).at(i, 0)) continue;
+        ++decal;
+        transparent += exact.planes.at(Attribute::AmbientOcclusion).at(i, 0) == 0.5f;
+        float worst = 0.0f;
+        for (Attribute a : {Attribute::Roughness, Attribute::Metallic, Attribute::AmbientOcclusion})
+            worst = std::max(worst, std::abs(exact.planes.at(a).at(i, 0) - baked.planes.at(a).at(i, 0)));
+        off += worst > 0.02f;
+    }
+    std::printf("ORM map half transparent: %zu of %zu decal pixels under the transparent half, %zu differ by > 0.02\n",
+                transparent, decal, off);
+    EXPECT_GT(transparent, 50u) << "the transparent half is seen";
+    // only the column of pixels on the map's middle edge, where a bake texel moves it (as the
+    // albedo's texel edges in AgreesWithExactModeWithinTheTexelSize)
+    EXPECT_LE(double(off), 0.05 * double(decal));
+}
+
 // ---- data/blender-deform (README "Deforming sequence")
 
 std::string deform(const std::string& file) { return test::dataPath("blender-deform/" + file); }

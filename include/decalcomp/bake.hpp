@@ -34,7 +34,8 @@ RestMesh uvApron(const RestMesh& mesh);
 BakedLayers bakeDecal(ComputeDevice& device, const DecalScene& scene, const Decal& decal);
 
 // The decal that reads `layers`' textures (scene texture indices; -1 = none) at the pixel's UV in
-// place of `decal`: fades and constants are in the bake; targets the decal leaves alone stay so.
+// place of `decal`: fades and constants are in the bake (ORM constants are also kept on the decal:
+// the ORM layer is empty where the ORM map is transparent); targets the decal leaves alone stay so.
 Decal bakedDecal(const Decal& decal, int albedo, int orm, int emission);
 
 // Identifies a mesh's UVs and rest positions (FNV-1a 64), so a baked file names the mesh it fits.

@@ -3,6 +3,14 @@
 
 namespace decalcomp {
 
+namespace {
+
+bool isOrmTarget(DecalTarget t) {
+    return t == DecalTarget::AmbientOcclusion || t == DecalTarget::Roughness || t == DecalTarget::Metallic;
+}
+
+}  // namespace
+
 Decal bakedDecal(const Decal& decal, int albedo, int orm, int emission) {
     Decal out = decal;
     out.baked = true;
@@ -21,7 +29,9 @@ Decal bakedDecal(const Decal& decal, int albedo, int orm, int emission) {
     for (int t = 0; t < kDecalTargets; ++t) {
         TargetEffect& e = out.effects[std::size_t(t)];
         if (!decalAffects(decal, DecalTarget(t))) e.factor = 0.0f;  // the coverage layer is no value
-        e.value.reset();
+        // ORM constants stay: the ORM layer is empty where the decal's ORM map is transparent (exact
+        // mode skips the map's channels there, not the constants'), so the layer cannot carry them.
+        if (!isOrmTarget(DecalTarget(t))) e.value.reset();
     }
     return out;
 }
