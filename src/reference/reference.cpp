@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "reference/decal_hit.hpp"
 #include "reference/occlusion.hpp"
 #include "reference/rest_pose.hpp"
 
@@ -315,31 +316,6 @@ double levelOfDetail(glm::dvec2 st, glm::dvec2 st_dx, glm::dvec2 st_dy, const Te
     return rho > 1.0 ? std::log2(rho) : 0.0;
 }
 
-// Where the rays of the pixel's right and lower neighbours meet the tangent plane (world space).
-struct Footprint {
-    bool valid = false;
-    glm::dvec3 dx{0.0}, dy{0.0};
-};
-
-// A decal at one world point: the kind's falloff and fades, and where its textures are looked up
-// (docs/conventions.md "Decals").
-struct DecalHit {
-    double fade = 0.0;  // 0 = outside or faded out
-    bool ambiguous = false;
-    glm::dvec3 local{0.0}, local_dx{0.0}, local_dy{0.0};  // the point and its footprint in decal space
-    bool footprint = false;
-    bool filtered = false;  // a pixel-filter tap: local_dx/dy span its stratum
-    CubeLookup cube;
-    double direction_slack = 0.0;    // cube: rounding of the direction
-    glm::dvec3 facing{0.0};          // world direction a receiving surface faces
-    glm::dvec3 right{0.0}, up{0.0};  // world directions of growing s and falling t
-};
-
-// A pixel-filter tap's stratum in decal space: the local vectors it spans.
-struct Stratum {
-    glm::dvec3 su{0.0}, sv{0.0};
-};
-
 // How much of a stratum spanning `extent` lies where `inside` >= 0 (a straight edge across a box).
 // A ramp much steeper than rounding (`slack` in the same measure) can flip like a step: then
 // `ambiguous` is set near the edge.
@@ -349,9 +325,11 @@ double stratumCoverage(double inside, double extent, double slack, bool& ambiguo
     return std::clamp(inside / extent + 0.5, 0.0, 1.0);
 }
 
+}  // namespace
+
 DecalHit hitDecal(const Decal& decal, const glm::dmat4& world_to_local, const glm::dvec3& P,
                   const std::optional<glm::dvec3>& normal, const Footprint& footprint, double slack,
-                  const Stratum* stratum = nullptr) {
+                  const Stratum* stratum) {
     DecalHit out;
     const glm::dvec3 l(world_to_local * glm::dvec4(P, 1.0));
     out.local = l;
@@ -515,12 +493,6 @@ glm::dvec4 hitTexel(const DecalHit& hit, const Decal& decal, const Texture2D& t,
     return glm::dvec4(0.0);
 }
 
-}  // namespace
-
-namespace {
-
-
-}  // namespace
 
 namespace {
 
@@ -717,19 +689,54 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                     std::optional<glm::dvec3> rest_normal;
                     if (normal) rest_normal = to_rest * *normal;
                     const double rest_slack = margin * scale[k] * (1.0 + glm::length(P));
-                    const DecalHit hit = hitDecal(decal, world_to_local[k], P, rest_normal, rest_footprint, rest_slack);
-                    bool ambiguous = hit.ambiguous;
-                    if (hit.fade > 0.0) {
-                        Surface in_rest = surface;
-                        in_rest.normal = to_rest * surface.normal;
+                    // Blends the decal, looked up in rest space, into `s`: normals there and back.
+                    auto blendInRestSpace = [&](const DecalHit& hit, Surface s, bool& ambiguous) {
+                        Surface in_rest = s;
+                        in_rest.normal = to_rest * s.normal;
                         in_rest.normal_changed = false;
                         applyDecal(decal, valuesAt(hit, ambiguous), hit.fade * weight, rest_normal.value_or(glm::dvec3(0.0)),
                                    has, in_rest);
                         const bool turned = in_rest.normal_changed;
-                        in_rest.normal = turned ? to_world * in_rest.normal : surface.normal;
-                        in_rest.normal_changed = turned || surface.normal_changed;
-                        surface = in_rest;
+                        in_rest.normal = turned ? to_world * in_rest.normal : s.normal;
+                        in_rest.normal_changed = turned || s.normal_changed;
+                        return in_rest;
+                    };
+                    // Under a pixel filter the taps follow the surface in rest space: P + u dP/dx +
+                    // v dP/dy, dP from the nearer neighbour on the mesh on each axis.
+                    const auto step_x = restStep(r, frame.width, frame.height, x, y, 1, 0);
+                    const auto step_y = restStep(r, frame.width, frame.height, x, y, 0, 1);
+                    if (taps.valid && step_x && step_y) {
+                        const glm::dmat3 to_local(world_to_local[k]);
+                        const double h = quadrature.step;
+                        const Stratum stratum{to_local * (*step_x * h), to_local * (*step_y * h)};
+                        Surface sum;
+                        sum.normal = glm::dvec3(0.0);
+                        sum.normal_changed = surface.normal_changed;
+                        bool touched = false;
+                        for (std::size_t j = 0; j < quadrature.offsets.size(); ++j)
+                            for (std::size_t t = 0; t < quadrature.offsets.size(); ++t) {
+                                const glm::dvec3 tap =
+                                    P + *step_x * quadrature.offsets[t] + *step_y * quadrature.offsets[j];
+                                const DecalHit hit = hitDecal(decal, world_to_local[k], tap, rest_normal, {}, rest_slack,
+                                                              &stratum);
+                                if (hit.ambiguous && !(hit.fade > 0.0)) result.ambiguous[i] = 1;  // just outside
+                                Surface out = surface;
+                                if (hit.fade > 0.0) {
+                                    bool ambiguous = hit.ambiguous;
+                                    out = blendInRestSpace(hit, surface, ambiguous);
+                                    if (ambiguous) result.ambiguous[i] = 1;
+                                    touched = true;
+                                }
+                                addWeighted(sum, out, quadrature.weights[t] * quadrature.weights[j]);
+                            }
+                        if (!touched) continue;
+                        if (sum.normal_changed && glm::length(sum.normal) > 1e-6) sum.normal = glm::normalize(sum.normal);
+                        surface = sum;
+                        continue;
                     }
+                    const DecalHit hit = hitDecal(decal, world_to_local[k], P, rest_normal, rest_footprint, rest_slack);
+                    bool ambiguous = hit.ambiguous;
+                    if (hit.fade > 0.0) surface = blendInRestSpace(hit, surface, ambiguous);
                     if (ambiguous) result.ambiguous[i] = 1;
                     continue;
                 }
@@ -766,14 +773,7 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                                     touched = true;
                                 }
                             }
-                            const double w = weights[t] * weights[j];
-                            sum.albedo += w * out.albedo;
-                            sum.normal += w * out.normal;
-                            sum.emission += w * out.emission;
-                            sum.roughness += w * out.roughness;
-                            sum.metallic += w * out.metallic;
-                            sum.ao += w * out.ao;
-                            sum.normal_changed = sum.normal_changed || out.normal_changed;
+                            addWeighted(sum, out, weights[t] * weights[j]);
                         }
                     if (!touched) continue;
                     if (sum.normal_changed && glm::length(sum.normal) > 1e-6) sum.normal = glm::normalize(sum.normal);
