@@ -118,12 +118,12 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                                 : dc_point_taps();
         for (int k = begin; k < end; ++k) {
             __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
-            if (d->rest_binding >= 0) { /* texture-space: point-sampled at its rest point (rest_pose.h) */
+            if (d->rest_binding >= 0) { /* texture-space: at its rest point(s) (rest_pose.h) */
                 float weight = d->opacity;
                 if (d->mask >= 0)
                     weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
-                s = dc_apply_rest_decal(frame, d, rest_points, rest_frames, x, y, normal, has_normal, weight,
-                                        textures, texels, s, variant, &applied);
+                s = dc_apply_rest_decal(frame, d, rest_points, rest_frames, x, y, normal, has_normal,
+                                        taps.mode == DC_TAPS_PLANE, weight, textures, texels, s, variant, &applied);
                 continue;
             }
             if (taps.mode == DC_TAPS_PLANE) {

@@ -56,6 +56,8 @@ struct Surface {
 };
 Surface surfaceAt(const std::map<Attribute, Plane>& planes, std::size_t pixel);  // normal left 0
 void storeSurface(const Surface& surface, std::size_t pixel, std::map<Attribute, Plane>& planes);  // all but the normal
+// sum += w * s, field by field (a pixel filter's taps); normal_changed is or-ed.
+void addWeighted(Surface& sum, const Surface& s, double w);
 
 // What a decal offers at one point: its textures' premultiplied texels (nullopt = no such
 // texture) and the world directions of its frame.

@@ -37,6 +37,16 @@ Surface surfaceAt(const std::map<Attribute, Plane>& planes, std::size_t i) {
     return s;
 }
 
+void addWeighted(Surface& sum, const Surface& s, double w) {
+    sum.albedo += w * s.albedo;
+    sum.normal += w * s.normal;
+    sum.emission += w * s.emission;
+    sum.roughness += w * s.roughness;
+    sum.metallic += w * s.metallic;
+    sum.ao += w * s.ao;
+    sum.normal_changed = sum.normal_changed || s.normal_changed;
+}
+
 void storeSurface(const Surface& s, std::size_t i, std::map<Attribute, Plane>& planes) {
     auto set = [&](Attribute a, int c, double v) {
         if (planes.count(a)) planes.at(a).at(i, c) = float(v);

@@ -183,4 +183,18 @@ RestPixels restPixels(const GBuffer& frame, const Camera& camera, const RestMesh
     return out;
 }
 
+std::optional<glm::dvec3> restStep(const RestPixels& rest, int width, int height, int x, int y, int dx, int dy) {
+    const glm::dvec3 P = *rest.points[std::size_t(y) * width + x];
+    std::optional<glm::dvec3> best;
+    for (int side = 1; side >= -1; side -= 2) {
+        const int nx = x + side * dx, ny = y + side * dy;
+        if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+        const auto& q = rest.points[std::size_t(ny) * width + nx];
+        if (!q) continue;
+        const glm::dvec3 d = (*q - P) * double(side);
+        if (!best || glm::length(d) < glm::length(*best)) best = d;
+    }
+    return best;
+}
+
 }  // namespace decalcomp::reference

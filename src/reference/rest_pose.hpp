@@ -25,4 +25,8 @@ struct RestPixels {
 RestPixels restPixels(const GBuffer& frame, const Camera& camera, const RestMesh& mesh, int mask,
                       const std::vector<std::optional<glm::dvec3>>& world_normals);
 
+// The rest point's difference towards the neighbour on axis (dx, dy) that the rest pass reached and
+// that lies nearer (one across a fold or a silhouette lies far); nullopt when neither was reached.
+std::optional<glm::dvec3> restStep(const RestPixels& rest, int width, int height, int x, int y, int dx, int dy);
+
 }  // namespace decalcomp::reference
