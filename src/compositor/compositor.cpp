@@ -33,17 +33,6 @@ double eventMs(const cl::Event& e) {
     return double(end - start) * 1e-6;
 }
 
-// Copies of floats [first, last) spread over the host's cores: packing is pure memory traffic.
-void parallelCopy(float* out, const float* in, PixelRange range) {
-    constexpr std::size_t kBlock = 1 << 16;
-    const auto blocks = std::ptrdiff_t((range.last - range.first + kBlock - 1) / kBlock);
-#pragma omp parallel for schedule(static) if (blocks > 1)
-    for (std::ptrdiff_t b = 0; b < blocks; ++b) {
-        const std::size_t first = range.first + std::size_t(b) * kBlock, n = std::min(range.last - first, kBlock);
-        std::memcpy(out + first, in + first, n * sizeof(float));
-    }
-}
-
 // Pixels `range` of the position plane (3 or more components) as float4 per pixel.
 void packPosition(const Plane& plane, PixelRange range, float* out) {
     const int copy = std::min(plane.components, 3);
@@ -407,7 +396,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
 
             const std::vector<cl::Event> e_rest =
                 enqueueRestPass(context, queue, k, s.rest_meshes, rest, frame, s.frame_buffer, depth, position,
-                                s.surface[1].device(), s.masks.device(), s.rest_pass);
+                                s.surface[1].device(), s.masks.device(), s.unified, s.rest_pass);
             cl::Event e_occlusion;
             const cl::Buffer occlusion_maps =
                 buildOcclusionMaps(context, queue, k, occlusion, s.frame_buffer, depth, position, s.decal_buffer,

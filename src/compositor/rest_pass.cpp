@@ -1,6 +1,7 @@
 #include "compositor/rest_pass.hpp"
 
 #include "compositor/device_buffers.hpp"
+#include "compositor/surface_planes.hpp"
 
 #include <fmt/format.h>
 
@@ -87,12 +88,12 @@ void checkRestPassInputs(const RestBindings& rest, const GBuffer& frame) {
 std::vector<cl::Event> enqueueRestPass(cl::Context& context, cl::CommandQueue& queue, CompositorKernels& kernels,
                      const RestMeshBuffers& meshes, const RestBindings& rest, const GBuffer& frame,
                      const cl::Buffer& frame_params, const cl::Buffer& depth, const cl::Buffer& position,
-                     const cl::Buffer& surface1, const cl::Buffer& masks, RestPassBuffers& buffers) {
+                     const cl::Buffer& surface1, const cl::Buffer& masks, bool unified, RestPassBuffers& buffers) {
     const std::size_t pixels = frame.pixelCount(), count = rest.bindings.size();
     // Frames without texture-space decals bind placeholders: the shading kernel never reads them.
     const std::size_t planes = count > 0 ? pixels : 0;
     reserve(context, buffers.bindings, count * sizeof(cl_types::DcRestBinding));
-    reserve(context, buffers.uv, planes * sizeof(cl_float2));
+    buffers.uv.reserve(context, queue, std::max<std::size_t>(planes, 1) * sizeof(cl_float2), unified);
     reserve(context, buffers.points, count * planes * sizeof(cl_float4));
     reserve(context, buffers.frames, count * planes * sizeof(cl_float4));
     std::vector<cl::Event> events;
@@ -101,14 +102,16 @@ std::vector<cl::Event> enqueueRestPass(cl::Context& context, cl::CommandQueue& q
     const auto uv = frame.planes.find(Attribute::UV);
     queue.enqueueWriteBuffer(buffers.bindings, CL_FALSE, 0, count * sizeof(cl_types::DcRestBinding),
                              rest.bindings.data());
-    queue.enqueueWriteBuffer(buffers.uv, CL_FALSE, 0, pixels * sizeof(cl_float2), uv->second.samples.data());
+    parallelCopy(static_cast<float*>(buffers.uv.beginUpload(queue)), uv->second.samples.data(), {0, 2 * pixels});
+    buffers.uv.uploadRange(queue, 0, pixels * sizeof(cl_float2));
+    buffers.uv.finishUpload(queue);
     // Tile-sized groups over the frame rounded up (the kernels skip pixels beyond it): PoCL's own
     // choice for a whole frame keeps too many work-items' variables on one thread's stack.
     const cl::NDRange range(roundUp(std::size_t(frame.width), DC_TILE_SIZE), roundUp(std::size_t(frame.height), DC_TILE_SIZE));
     const cl::NDRange group(DC_TILE_SIZE, DC_TILE_SIZE);
     for (std::size_t b = 0; b < count; ++b)
         events.push_back(kernels.rest_lookup(cl::EnqueueArgs(queue, range, group), frame_params, buffers.bindings, cl_int(b),
-                                             buffers.uv, masks, meshes.vertices, meshes.triangles, meshes.cells,
+                                             buffers.uv.device(), masks, meshes.vertices, meshes.triangles, meshes.cells,
                                              meshes.cell_triangles, buffers.points, buffers.frames));
     if (!rest.needs_frames) return events;
     for (std::size_t b = 0; b < count; ++b)

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "compositor/kernels.hpp"
+#include "compositor/staged_buffer.hpp"
 #include "decalcomp/decal.hpp"
 #include "decalcomp/gbuffer.hpp"
 #include "shared_types.h"
@@ -37,13 +38,14 @@ void checkRestPassInputs(const RestBindings& rest, const GBuffer& frame);
 
 // Device memory of one frame's rest pass, grown on demand.
 struct RestPassBuffers {
-    cl::Buffer bindings, uv, points, frames;
+    cl::Buffer bindings, points, frames;
+    StagedBuffer uv;  // the UV pass, through pinned memory on a GPU (mapped on PoCL)
 };
 // Enqueues the rest pass (after the frame's planes and masks are on their way): uploads the UV
 // plane, then per binding the lookup and, when needed, the rotations. Returns the kernels' events.
 std::vector<cl::Event> enqueueRestPass(cl::Context& context, cl::CommandQueue& queue, CompositorKernels& kernels,
                      const RestMeshBuffers& meshes, const RestBindings& rest, const GBuffer& frame,
                      const cl::Buffer& frame_params, const cl::Buffer& depth, const cl::Buffer& position,
-                     const cl::Buffer& surface1, const cl::Buffer& masks, RestPassBuffers& buffers);
+                     const cl::Buffer& surface1, const cl::Buffer& masks, bool unified, RestPassBuffers& buffers);
 
 }  // namespace decalcomp

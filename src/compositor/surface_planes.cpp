@@ -1,5 +1,6 @@
 #include "compositor/surface_planes.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "decalcomp/normal_codec.hpp"
@@ -139,6 +140,16 @@ float* p = plane.samples.data();
 #pragma omp parallel for schedule(static) if (last - first >= kParallelPixels)
         for (std::ptrdiff_t i = first; i < last; ++i)
             for (int c = 0; c < copy; ++c) p[i * stride + c] = r[i * 4 + c];
+    }
+}
+
+void parallelCopy(float* out, const float* in, PixelRange range) {
+    constexpr std::size_t kBlock = 1 << 16;
+    const auto blocks = std::ptrdiff_t((range.last - range.first + kBlock - 1) / kBlock);
+#pragma omp parallel for schedule(static) if (blocks > 1)
+    for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+        const std::size_t first = range.first + std::size_t(b) * kBlock, n = std::min(range.last - first, kBlock);
+        std::memcpy(out + first, in + first, n * sizeof(float));
     }
 }
 

@@ -29,6 +29,10 @@ struct PixelRange {
     std::size_t first = 0, last = 0;
 };
 
+// Copies floats [first, last) of `in` to `out` (both indexed from 0), spread over the host's cores:
+// packing is pure memory traffic.
+void parallelCopy(float* out, const float* in, PixelRange range);
+
 // Fills pixels `range` of group `group` (4 floats per pixel at `out`, indexed from pixel 0) from
 // the frame's planes; normals are decoded from the frame's space and encoding to world space.
 // Unused slots are 0.
