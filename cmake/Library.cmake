@@ -12,7 +12,7 @@ set_target_properties(${DECALCOMP_LAYERS} PROPERTIES POSITION_INDEPENDENT_CODE O
 # device, scenes, cameras, masks, profiles, provenance and what they include. tests/install checks that every
 # installed header compiles on its own against the installed tree.
 set(DECALCOMP_PUBLIC_HEADERS
-  batch beauty camera camera_solve channel_mapping compositor contact_sheet cryptomatte decal depth_check device error
+  bake batch beauty camera camera_solve channel_mapping compositor contact_sheet cryptomatte decal depth_check device error
   exr_chunks exr_file frame frame_beauty frame_pattern gbuffer gbuffer_exr masks normal_check pipeline
   pixel_filter profiles provenance rest_mesh scene sequence_conventions shard)
 list(TRANSFORM DECALCOMP_PUBLIC_HEADERS PREPEND ${CMAKE_SOURCE_DIR}/include/decalcomp/)

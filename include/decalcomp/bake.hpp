@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "decalcomp/decal.hpp"
 #include "decalcomp/device.hpp"
@@ -48,5 +49,30 @@ BakedLayers readBakedLayers(const std::string& path, const RestMesh& mesh);
 // alpha, each through a temporary file renamed into place. Throws Error(Output).
 void writeBakedLayers(const BakedLayers& layers, const RestMesh& mesh, const std::string& decal_name,
                       const std::string& exr, const std::string& png);
+
+// `decalcomp bake` as a library call (docs/cli.md "bake"; the CLI and the Python module run it):
+// OUTPUT/DECAL.exr and, with `png`, OUTPUT/DECAL.png for each bake-mode decal of the scene (or the
+// one named `decal`), DECAL being its name with anything but letters, digits, '.', '-' and '_'
+// replaced by '_'. Every output is checked before the device is opened: two decals may not write
+// the same file, and no output may be a file the scene reads.
+struct BakeFilesRequest {
+    std::string output;      // the folder (created when missing)
+    std::string decal;       // only this decal (empty: every bake-mode decal)
+    bool png = true;         // also the 8-bit albedo PNG
+    std::string device;      // ComputeDevice selector ("": GPU, else CPU)
+    std::string scene_file;  // the scene's file, for messages and the overwrite check ("": scene.source)
+};
+struct BakedFile {
+    std::string decal, exr, png;  // png empty without one
+    int width = 0, height = 0, dilation = 0;
+    std::string device;           // the OpenCL device's name
+};
+struct BakeFilesResult {
+    std::vector<BakedFile> files;
+    std::vector<std::string> warnings;  // decals that read a "baked" file and were not baked again
+};
+// Throws Error(Usage) for a bad output or name clash, Error(Input) when nothing is to be baked,
+// and what bakeDecal and writeBakedLayers throw.
+BakeFilesResult bakeFiles(const DecalScene& scene, const BakeFilesRequest& request);
 
 }  // namespace decalcomp

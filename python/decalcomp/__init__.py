@@ -25,13 +25,14 @@ from ._decalcomp import (
     Scene,
     UsageError,
     __version__,
+    bake,
     batch,
     devices,
 )
 
 __all__ = [
     "Camera", "Compositor", "Device", "DeviceError", "Error", "InputError", "OutputError", "Scene",
-    "UsageError", "__version__", "batch", "composite_files", "devices", "load_scene",
+    "UsageError", "__version__", "bake", "batch", "composite_files", "devices", "load_scene",
 ]
 
 SceneLike = Union[Scene, Mapping[str, Any], str, "os.PathLike[str]"]

@@ -100,6 +100,15 @@ class Compositor:
 def load_scene(scene: SceneLike, base_dir: str = ".", ocio: str = "") -> Scene: ...
 def composite_files(inputs: Union[str, Sequence[str]], output: Union[str, os.PathLike[str]], scene: SceneLike, *,
                     device: str = "", **options: Any) -> dict[str, Any]: ...
+def bake(
+    scene: Union[Scene, str, os.PathLike[str]],
+    output_dir: Union[str, os.PathLike[str]],
+    *,
+    decal: Optional[str] = None,
+    png: bool = True,
+    device: Optional[str] = None,
+    ocio: Optional[str] = None,
+) -> dict[str, Any]: ...
 def batch(
     input: str,
     output: str,

@@ -20,6 +20,7 @@ void bindDevices(py::module_& m);     // devices(), Device
 void bindScene(py::module_& m);       // Scene, Camera
 void bindCompositor(py::module_& m);  // Compositor: arrays and files
 void bindBatch(py::module_& m);       // batch()
+void bindBake(py::module_& m);        // bake()
 
 // A Camera, a (world_to_camera, projection) pair of 4x4 arrays, or a camera JSON path.
 Camera cameraFrom(const py::object& value);

@@ -10,4 +10,5 @@ PYBIND11_MODULE(_decalcomp, m) {
     decalcomp::python::bindScene(m);
     decalcomp::python::bindCompositor(m);
     decalcomp::python::bindBatch(m);
+    decalcomp::python::bindBake(m);
 }
