@@ -22,6 +22,7 @@ struct BakedLayers {
     int width = 0, height = 0;
     Texture2D albedo;
     std::optional<Texture2D> orm, emission;
+    double bake_kernel_ms = 0;  // the bake kernel's device time where the device profiles (else 0)
 };
 
 // The apron of a mesh's UV islands: one triangle outside each island border edge, its edge 0-1

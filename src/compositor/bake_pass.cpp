@@ -47,7 +47,9 @@ BakedLayers bakeDecal(ComputeDevice& device, const DecalScene& scene, const Deca
     const std::size_t texels = std::size_t(size) * std::size_t(size);
     try {
         cl::Context& context = device.context();
-        cl::CommandQueue queue(context, device.info().device);
+        // its own queue (the layers are read back here); profiled like the device's, for bake_kernel_ms
+        cl::CommandQueue queue(context, device.info().device,
+                               device.profiling() ? cl::QueueProperties::Profiling : cl::QueueProperties::None);
         const RestMeshBuffers meshes = uploadRestMeshes(context, {mesh, uvApron(mesh)});
         const PackedTextures packed = packTextures(scene.textures);
         DecalScene one;
@@ -65,8 +67,9 @@ BakedLayers bakeDecal(ComputeDevice& device, const DecalScene& scene, const Deca
         BakeKernel kernel(device.program(), "dc_bake_layer");
         // 16 x 16 groups over the layer rounded up (the kernel skips texels beyond it)
         const cl::NDRange range(roundUp(std::size_t(size), 16), roundUp(std::size_t(size), 16)), group(16, 16);
-        kernel(cl::EnqueueArgs(queue, range, group), layer_buffer, decal_buffer, table, texel_buffer, grids,
-               meshes.vertices, meshes.triangles, meshes.cells, meshes.cell_triangles, layers[0], layers[1], layers[2]);
+        const cl::Event baked = kernel(cl::EnqueueArgs(queue, range, group), layer_buffer, decal_buffer, table,
+                                       texel_buffer, grids, meshes.vertices, meshes.triangles, meshes.cells,
+                                       meshes.cell_triangles, layers[0], layers[1], layers[2]);
         std::array<std::vector<glm::vec4>, 3> host;
         for (int k = 0; k < 3; ++k) {
             host[std::size_t(k)].resize(texels);
@@ -74,6 +77,9 @@ BakedLayers bakeDecal(ComputeDevice& device, const DecalScene& scene, const Deca
                                     host[std::size_t(k)].data());
         }
         queue.finish();
+        if (device.profiling())
+            out.bake_kernel_ms = double(baked.getProfilingInfo<CL_PROFILING_COMMAND_END>() -
+                                        baked.getProfilingInfo<CL_PROFILING_COMMAND_START>()) * 1e-6;
         out.albedo = layerTexture(std::move(host[0]), size, size, source);
         if (decalAffects(decal, DecalTarget::Roughness) || decalAffects(decal, DecalTarget::Metallic) ||
             decalAffects(decal, DecalTarget::AmbientOcclusion))

@@ -24,6 +24,7 @@
 #include "decalcomp/synth.hpp"
 #include "decalcomp/synth_light.hpp"
 #include "median.hpp"
+#include "bake.hpp"
 #include "texture_space.hpp"
 #include "transfers.hpp"
 
@@ -300,6 +301,10 @@ int main(int argc, char** argv) {
     app.add_flag("--texture-space", texture_space,
                  "instead: a texture-space box decal on a 102,400-triangle tube against the same box in the world "
                  "(same pixels), at the first --sizes entry");
+    bool bake = false;
+    app.add_flag("--bake", bake,
+                 "instead: the texture-space bake kernel on the 102,400-triangle tube at 1024² and 2048², then the "
+                 "decal in bake mode, exact mode and as a world box (same pixels), at the first --sizes entry");
     bool no_transfers = false;
     app.add_flag("--no-transfers", no_transfers, "skip measuring the transfer and bandwidth floors");
     bool list = false;
@@ -348,6 +353,10 @@ int main(int argc, char** argv) {
         fmt::print(info, "program build: {:.0f} ms\n\n",
                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - build0).count());
 
+        if (bake) {
+            bench::benchBake(device, compositor, sizes.front().width, sizes.front().height, opt.repeat, info);
+            return 0;
+        }
         if (texture_space) {
             bench::benchTextureSpace(compositor, sizes.front().width, sizes.front().height, opt.repeat, info);
             return 0;

@@ -13,14 +13,7 @@
 
 namespace decalcomp::bench {
 
-namespace {
-
-struct Timing {
-    double kernel_ms = 0, rest_ms = 0, shading_ms = 0, wall_ms = 0;
-    std::size_t changed = 0;  // albedo pixels the decal changed
-};
-
-Timing time(Compositor& compositor, const DecalScene& scene, const GBuffer& frame, const Camera& camera, int repeat) {
+Timing timeFrames(Compositor& compositor, const DecalScene& scene, const GBuffer& frame, const Camera& camera, int repeat) {
     compositor.setScene(scene);
     GBuffer work = frame;
     compositor.composite(work, camera);  // warm-up
@@ -41,25 +34,25 @@ Timing time(Compositor& compositor, const DecalScene& scene, const GBuffer& fram
     return {median(kernel), median(rest), median(shading), median(wall), t.changed};
 }
 
-}  // namespace
-
-void benchTextureSpace(Compositor& compositor, int width, int height, int repeat, std::FILE* out) {
-    const RestMesh tube = synth::tubeMesh(256, 200);  // 102,400 triangles
-    Camera camera;
+TubeBench tubeBench(int width, int height) {
+    TubeBench b;
+    b.tube = synth::tubeMesh(256, 200);  // 102,400 triangles
+    const RestMesh& tube = b.tube;
+    Camera& camera = b.camera;
     camera.world_to_camera = lookAt({3.4, -0.5, 1.0}, {0.0, 0.0, 1.0}, {0, 0, 1});
     camera.projection = perspectiveProjection(0.7, double(width) / height, 0.1, 100.0);
     std::vector<synth::PosedMesh> meshes(1);
     meshes[0] = {&tube, {}, 1, glm::vec3(0.6f)};
     for (const RestVertex& v : tube.vertices) meshes[0].positions.push_back(v.position);
-    synth::MeshFrame rendered = synth::renderMeshes(meshes, camera, width, height);
-    GBuffer& frame = rendered.gbuffer;
+    b.frame = synth::renderMeshes(meshes, camera, width, height).gbuffer;
+    GBuffer& frame = b.frame;
     for (Attribute a : {Attribute::Normal, Attribute::Position}) frame.planes.erase(a);
     Plane mask{1, std::vector<float>(frame.pixelCount())};
     for (std::size_t i = 0; i < frame.pixelCount(); ++i) mask.samples[i] = frame.planes.at(Attribute::ObjectId).at(i, 0);
     frame.mask_weights = {mask};
 
     // A box through the tube's front, facing the camera's side (+X), 0.8 around by 1.6 up.
-    DecalScene scene;
+    DecalScene& scene = b.scene;
     scene.meshes = {tube};
     DecalMask object;
     object.include_ids = {1};
@@ -73,12 +66,18 @@ void benchTextureSpace(Compositor& compositor, int width, int height, int repeat
     box.world_matrix = glm::dmat4(glm::dvec4(0, 0.8, 0, 0), glm::dvec4(0, 0, 1.6, 0), glm::dvec4(0.6, 0, 0, 0),
                                   glm::dvec4(0.5, 0, 1.0, 1));
     scene.decals = {box};
-    const Timing world = time(compositor, scene, frame, camera, repeat);
+    return b;
+}
+
+void benchTextureSpace(Compositor& compositor, int width, int height, int repeat, std::FILE* out) {
+    TubeBench b = tubeBench(width, height);
+    DecalScene& scene = b.scene;
+    const Timing world = timeFrames(compositor, scene, b.frame, b.camera, repeat);
     scene.decals[0].space = DecalSpace::ObjectRest;
     scene.decals[0].rest_mesh = 0;
-    const Timing rest = time(compositor, scene, frame, camera, repeat);
+    const Timing rest = timeFrames(compositor, scene, b.frame, b.camera, repeat);
     fmt::print(out, "\ntexture space, {}x{}, {} triangles, the decal on {} pixels ({} world):\n", width, height,
-               tube.triangles.size(), rest.changed, world.changed);
+               b.tube.triangles.size(), rest.changed, world.changed);
     fmt::print(out, "  world box:          kernels {:.3f} ms (shading {:.3f}), composite() {:.2f} ms\n", world.kernel_ms,
                world.shading_ms, world.wall_ms);
     fmt::print(out, "  texture-space box:  kernels {:.3f} ms (rest pass {:.3f}, shading {:.3f}), composite() {:.2f} ms\n",
