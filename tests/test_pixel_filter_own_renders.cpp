@@ -1,0 +1,191 @@
+// Issue 15 on antialiased Blender renders of our own (data/blender-aa-gauss: Cycles' Gaussian,
+// Filter Size 2.5 px; data/blender-aa-box: Cycles' Box, 1 px), made from scratch by
+// tools/blender/make_datasets.sh (data/README.md "Our own renders"). The issue's target: "on other
+// antialiased Blender scenes of this kind, the same method must land within 5 dB of the
+// 4x-supersampled estimate" (decals composited at 4x without antialiasing and filtered down with the
+// renderer's filter; tools/blender/estimate_4x.py, independent numpy, recorded in estimate.json).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "decalcomp/exr_file.hpp"
+#include "support/test_support.hpp"
+#include "support/truth_score.hpp"
+
+namespace decalcomp {
+namespace {
+
+using test::findFloatChannel;
+using test::Score;
+using test::scoreAgainstTruth;
+
+struct OwnRender {
+    const char* folder;
+    const char* filter;      // --pixel-filter matching the render (measured by estimate_4x.py's fit)
+    double estimate_db;      // the 4x estimate with that filter (estimate.json "estimate_db")
+    double mixed_noise;      // per-pixel noise bound of the truth's DiffCol (see below)
+};
+
+// Measured (data/README.md "Our own renders", tools/blender/estimate_4x.py):
+// - gauss: Cycles' Gaussian 2.5 px is gaussian:2.5 here (the fit over gaussian:1.0..4.0 in steps of
+//   0.1 peaks at 2.5: 48.61 dB over the decal pixels; 2.4 and 2.6 score lower). The 4x estimate with
+//   it: 48.61 dB.
+// - box: Cycles' Box 1 px is box:1 (the fit over box:0.5/1/1.5/2 peaks at 1: 42.95 dB; the 4x grid
+//   has only 4 x 4 samples per pixel, which caps the estimate). The 4x estimate: 42.95 dB.
+// - mixed_noise: the largest per-pixel channel difference of DiffCol between the truth and the same
+//   render with seed 1 instead of 0 (own_scene.py --seed 1, otherwise the same command), over the
+//   truth's decal pixels: two equally valid 256-spp renders differ this much (gauss 0.0370, box
+//   0.0261; over the mixed decal pixels alone 0.0259 and 0.0192; seed 0 against seed 1 scores
+//   50.33 and 55.09 dB over the decal pixels).
+const OwnRender kGauss{"blender-aa-gauss", "gaussian:2.5", 48.61, 0.0370};
+const OwnRender kBox{"blender-aa-box", "box:1", 42.95, 0.0261};
+
+void compositeOwn(const std::string& folder, const std::string& filter, const std::string& out) {
+    const auto file = [&](const std::string& f) { return test::shellQuote(test::dataPath(folder + "/" + f)); };
+    const auto run = test::runCli("composite " + file("gbuffer.exr") + " --decals " + file("scene.json") +
+                                  " --camera " + file("camera.json") + " --device cpu -q --beauty off --pixel-filter " +
+                                  filter + " -o " + test::shellQuote(out));
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+}
+
+struct MixedPixels {
+    std::size_t pixels = 0, worse = 0;
+    double filtered_psnr = 0, point_psnr = 0;
+    double worst_excess = 0;  // the largest (filtered - point-sampled) channel error
+    int worst_x = -1, worst_y = -1;
+};
+
+// The decal pixels (truth DecalMask > 0.5) whose G-buffer normal is shorter than 0.995 (averaged over
+// two directions) or whose depth jumps by more than 2 % to a 4-neighbour, as in test_blender_truth.cpp:
+// how many the filtered result gets worse than the point-sampled one by more than `tolerance` (the
+// largest channel error).
+MixedPixels compareMixedPixels(const std::string& gbuffer_path, const ExrImage& filtered, const ExrImage& point,
+                               const ExrImage& truth, double tolerance) {
+    const ExrImage g = readExr(gbuffer_path);
+    const int width = g.parts.at(0).width;
+    std::vector<float> nx, ny, nz, z, mask, f[3], p[3], t[3];
+    EXPECT_NE(findFloatChannel(g, "ViewLayer.Normal.X", nx), nullptr);
+    EXPECT_NE(findFloatChannel(g, "ViewLayer.Normal.Y", ny), nullptr);
+    EXPECT_NE(findFloatChannel(g, "ViewLayer.Normal.Z", nz), nullptr);
+    EXPECT_NE(findFloatChannel(g, "ViewLayer.Depth.Z", z), nullptr);
+    EXPECT_NE(findFloatChannel(truth, "ViewLayer.DecalMask.X", mask), nullptr);
+    const char* channel[3] = {"R", "G", "B"};
+    for (int c = 0; c < 3; ++c) {
+        const std::string name = std::string("ViewLayer.DiffCol.") + channel[c];
+        findFloatChannel(filtered, name, f[c]);
+        findFloatChannel(point, name, p[c]);
+        findFloatChannel(truth, name, t[c]);
+    }
+    MixedPixels m;
+    double filtered_squared = 0, point_squared = 0;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        if (!(mask[i] > 0.5f)) continue;
+        const long x = long(i % std::size_t(width));
+        bool jump = false;
+        for (const long d : {-1L, 1L, -long(width), long(width)}) {
+            if ((d == -1 && x == 0) || (d == 1 && x + 1 == width)) continue;
+            const long j = long(i) + d;
+            if (j >= 0 && j < long(z.size()) && std::abs(z[std::size_t(j)] - z[i]) > 0.02f * z[i]) jump = true;
+        }
+        const double length = std::sqrt(double(nx[i]) * nx[i] + double(ny[i]) * ny[i] + double(nz[i]) * nz[i]);
+        if (!jump && length >= 0.995) continue;
+        ++m.pixels;
+        double ef = 0, ep = 0;
+        for (int c = 0; c < 3; ++c) {
+            ef = std::max(ef, double(std::abs(f[c][i] - t[c][i])));
+            ep = std::max(ep, double(std::abs(p[c][i] - t[c][i])));
+            filtered_squared += double(f[c][i] - t[c][i]) * double(f[c][i] - t[c][i]);
+            point_squared += double(p[c][i] - t[c][i]) * double(p[c][i] - t[c][i]);
+        }
+        if (ef > ep + tolerance) ++m.worse;
+        if (ef - ep > m.worst_excess) {
+            m.worst_excess = ef - ep;
+            m.worst_x = int(x);
+            m.worst_y = int(i / std::size_t(width));
+        }
+    }
+    m.filtered_psnr = 10.0 * std::log10(3.0 * double(m.pixels) / std::max(filtered_squared, 1e-30));
+    m.point_psnr = 10.0 * std::log10(3.0 * double(m.pixels) / std::max(point_squared, 1e-30));
+    return m;
+}
+
+struct Measured {
+    Score all, point;
+    MixedPixels mixed;
+};
+
+// Composites one render with its filter and point-sampled, scores both (once per render; the tests
+// below share it).
+const Measured& measure(const OwnRender& render) {
+    static std::map<std::string, Measured> cache;
+    const auto found = cache.find(render.folder);
+    if (found != cache.end()) return found->second;
+    test::ScratchDir dir;
+    Measured m;
+    compositeOwn(render.folder, render.filter, dir.file("filtered.exr"));
+    compositeOwn(render.folder, "none", dir.file("point.exr"));
+    const ExrImage truth = readExr(test::dataPath(std::string(render.folder) + "/truth.exr"));
+    const ExrImage filtered = readExr(dir.file("filtered.exr"));
+    const ExrImage point = readExr(dir.file("point.exr"));
+    m.all = scoreAgainstTruth(filtered, truth);
+    m.point = scoreAgainstTruth(point, truth);
+    std::printf("%s, --pixel-filter %s: %.2f dB over %zu decal pixels (4x estimate %.2f, point-sampled %.2f)\n",
+                render.folder, render.filter, m.all.psnr, m.all.pixels / 3, render.estimate_db, m.point.psnr);
+    for (const char* kind : {"Box", "Frustum"}) {
+        const Score score = scoreAgainstTruth(filtered, truth, std::string("ViewLayer.DecalMask") + kind + ".X");
+        std::printf("  %s: %.2f dB over %zu pixels\n", kind, score.psnr, score.pixels / 3);
+    }
+    m.mixed = compareMixedPixels(test::dataPath(std::string(render.folder) + "/gbuffer.exr"), filtered, point, truth,
+                                 render.mixed_noise);
+    std::printf("  mixed pixels: %zu, worse than point-sampled by > %.4f (the truth's noise): %zu (worst by %.4f at "
+                "x %d, y %d); filtered %.2f dB, point %.2f dB\n",
+                m.mixed.pixels, render.mixed_noise, m.mixed.worse, m.mixed.worst_excess, m.mixed.worst_x,
+                m.mixed.worst_y, m.mixed.filtered_psnr, m.mixed.point_psnr);
+    return cache.emplace(render.folder, m).first->second;
+}
+
+// Issue 15's target: within 5 dB of the 4x estimate over the decal pixels.
+void expectWithin5dB(const OwnRender& render) {
+    const Measured& m = measure(render);
+    ::testing::Test::RecordProperty("psnr_db", std::to_string(m.all.psnr));
+    // 16,487 (gauss) and 16,488 (box) decal pixels (estimate.json "decal_pixels")
+    EXPECT_GT(m.all.pixels / 3, 16000u);
+    EXPECT_GE(m.all.psnr, render.estimate_db - 5.0) << "more than 5 dB below the 4x estimate";
+}
+
+// Integrating over the filter beats point sampling, over all decal pixels and over the mixed ones.
+// Point sampling misses every soft edge: measured 21.66 (gauss) and 24.35 dB (box), 13.5 dB below the
+// filtered result in both; "clearly lower" is 10 dB here. Mixed pixels: measured 1821 and 842, filtered
+// 26.26 / 25.41 dB against point-sampled 21.27 / 22.44.
+void expectBeatsPointSampling(const OwnRender& render) {
+    const Measured& m = measure(render);
+    ::testing::Test::RecordProperty("point_psnr_db", std::to_string(m.point.psnr));
+    EXPECT_LT(m.point.psnr, m.all.psnr - 10.0);
+    EXPECT_GT(m.mixed.pixels, 500u);
+    EXPECT_GT(m.mixed.filtered_psnr, m.mixed.point_psnr);
+}
+
+// No mixed pixel worse than point-sampled by more than the truth's own noise (as
+// test_blender_truth.cpp asks of blender-aa).
+void expectMixedPixelsNoWorse(const OwnRender& render) {
+    const Measured& m = measure(render);
+    ::testing::Test::RecordProperty("mixed_worse", std::to_string(m.mixed.worse));
+    ::testing::Test::RecordProperty("mixed_worst_excess", std::to_string(m.mixed.worst_excess));
+    EXPECT_EQ(m.mixed.worse, 0u) << "worst by " << m.mixed.worst_excess << " at x " << m.mixed.worst_x << ", y "
+                                 << m.mixed.worst_y;
+}
+
+TEST(OwnAntialiasedRenders, GaussianWithin5dBOfThe4xEstimate) { expectWithin5dB(kGauss); }
+TEST(OwnAntialiasedRenders, BoxWithin5dBOfThe4xEstimate) { expectWithin5dB(kBox); }
+TEST(OwnAntialiasedRenders, GaussianBeatsPointSampling) { expectBeatsPointSampling(kGauss); }
+TEST(OwnAntialiasedRenders, BoxBeatsPointSampling) { expectBeatsPointSampling(kBox); }
+TEST(OwnAntialiasedRenders, GaussianMixedPixelsNoWorseThanPointSampled) { expectMixedPixelsNoWorse(kGauss); }
+TEST(OwnAntialiasedRenders, BoxMixedPixelsNoWorseThanPointSampled) { expectMixedPixelsNoWorse(kBox); }
+
+}  // namespace
+}  // namespace decalcomp
