@@ -13,7 +13,8 @@ __kernel void dc_rest_lookup(__constant const DcFrame* frame, __global const DcR
                              __global const float2* uv_plane, __global const float* mask_weights,
                              __global const float4* vertices, __global const int4* triangles,
                              __global const int* cells, __global const int* cell_triangles,
-                             __global float4* rest_points, __global float4* rest_frames) {
+                             __global const float4* uv_triangles, __global float4* rest_points,
+                             __global float4* rest_frames) {
     const int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame->width || y >= frame->height) return;
     const size_t pixels = (size_t)frame->width * frame->height, i = (size_t)y * frame->width + x;
@@ -37,14 +38,11 @@ __kernel void dc_rest_lookup(__constant const DcFrame* frame, __global const DcR
         float3 best_w = (float3)(0.0f);
         for (int k = cells[c]; k < cells[c + 1]; ++k) {
             const int t = cell_triangles[k];
-            const int4 tri = triangles[t];
-            const float2 a = (float2)(vertices[3 * tri.x].w, vertices[3 * tri.x + 1].w);
-            const float2 e0 = (float2)(vertices[3 * tri.y].w, vertices[3 * tri.y + 1].w) - a;
-            const float2 e1 = (float2)(vertices[3 * tri.z].w, vertices[3 * tri.z + 1].w) - a;
-            const float2 dp = uv - a;
-            const float det = e0.x * e1.y - e0.y * e1.x;
-            if (!(fabs(det) > 0.0f)) continue;
-            const float wb = (dp.x * e1.y - dp.y * e1.x) / det, wc = (e0.x * dp.y - e0.y * dp.x) / det;
+            /* the triangle's UV corner, edges and 1 / det, two contiguous loads (rest_pass.cpp) */
+            const float4 r0 = uv_triangles[2 * t], r1 = uv_triangles[2 * t + 1];
+            const float2 e0 = r0.zw, e1 = r1.xy, dp = uv - r0.xy;
+            if (!(r1.z != 0.0f)) continue; /* degenerate in UV */
+            const float wb = (dp.x * e1.y - dp.y * e1.x) * r1.z, wc = (e0.x * dp.y - e0.y * dp.x) * r1.z;
             const float3 w = (float3)(1.0f - wb - wc, wb, wc);
             const float inside = fmin(w.x, fmin(w.y, w.z));
             if (inside > best) {
@@ -62,7 +60,7 @@ __kernel void dc_rest_lookup(__constant const DcFrame* frame, __global const DcR
         }
     }
     rest_points[(size_t)b * pixels + i] = out;
-    rest_frames[(size_t)b * pixels + i] = weights;
+    if (frame->rest_frames) rest_frames[(size_t)b * pixels + i] = weights; /* only dc_rest_frame reads them */
 }
 
 /* The neighbour of (x, y) one step along (dx, dy) or against it, whichever is on the mesh and nearer

@@ -34,8 +34,8 @@ struct CompositorKernels {
     // frame, depth plane, position plane, decals, occluder indices, occluder count, maps
     cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer> occlusion_build;
     // frame, bindings, binding, uv plane, mask weights, vertices, triangles, cells, cell triangles,
-    // rest points, rest frames (kernels/rest_pose.cl)
-    cl::KernelFunctor<Buffer, Buffer, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer>
+    // uv triangles, rest points, rest frames (kernels/rest_pose.cl)
+    cl::KernelFunctor<Buffer, Buffer, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer>
         rest_lookup;
     // frame, binding, depth, position, surface group 1, vertices, triangles, rest points, rest frames
     cl::KernelFunctor<Buffer, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer> rest_frame;

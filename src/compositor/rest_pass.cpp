@@ -21,6 +21,7 @@ RestMeshBuffers uploadRestMeshes(cl::Context& context, const std::vector<RestMes
     std::vector<cl_float4> vertices;
     std::vector<cl_int4> triangles;
     std::vector<cl_int> cells, cell_triangles;
+    std::vector<cl_float4> uv_triangles;
     for (const RestMesh& mesh : meshes) {
         if (triangles.size() + mesh.triangles.size() >= (1u << 24))
             throw inputError(fmt::format("{}: more than 2^24 triangles in the scene's rest meshes", mesh.source));
@@ -30,8 +31,15 @@ RestMeshBuffers uploadRestMeshes(cl::Context& context, const std::vector<RestMes
             vertices.push_back({{v.normal.x, v.normal.y, v.normal.z, v.uv.y}});
             vertices.push_back({{v.tangent.x, v.tangent.y, v.tangent.z, v.tangent.w}});
         }
-        for (const glm::ivec3& t : mesh.triangles)
+        for (const glm::ivec3& t : mesh.triangles) {
             triangles.push_back({{t.x + first_vertex, t.y + first_vertex, t.z + first_vertex, 0}});
+            // in float, as the kernel would compute them; 1 / det is 0 for a degenerate triangle
+            const glm::vec2 a = mesh.vertices[std::size_t(t.x)].uv, e0 = mesh.vertices[std::size_t(t.y)].uv - a,
+                            e1 = mesh.vertices[std::size_t(t.z)].uv - a;
+            const float det = e0.x * e1.y - e0.y * e1.x;
+            uv_triangles.push_back({{a.x, a.y, e0.x, e0.y}});
+            uv_triangles.push_back({{e1.x, e1.y, std::abs(det) > 0.0f ? 1.0f / det : 0.0f, 0.0f}});
+        }
         const UvGrid grid = mesh.grid.cell_start.size() >= 2 ? mesh.grid : buildUvGrid(mesh);
         cl_types::DcRestBinding g{};
         g.uv_origin[0] = grid.origin.x;
@@ -50,6 +58,7 @@ RestMeshBuffers uploadRestMeshes(cl::Context& context, const std::vector<RestMes
     out.triangles = makeBuffer(context, triangles);
     out.cells = makeBuffer(context, cells);
     out.cell_triangles = makeBuffer(context, cell_triangles);
+    out.uv_triangles = makeBuffer(context, uv_triangles);
     return out;
 }
 
@@ -112,7 +121,8 @@ std::vector<cl::Event> enqueueRestPass(cl::Context& context, cl::CommandQueue& q
     for (std::size_t b = 0; b < count; ++b)
         events.push_back(kernels.rest_lookup(cl::EnqueueArgs(queue, range, group), frame_params, buffers.bindings, cl_int(b),
                                              buffers.uv.device(), masks, meshes.vertices, meshes.triangles, meshes.cells,
-                                             meshes.cell_triangles, buffers.points, buffers.frames));
+                                             meshes.cell_triangles, meshes.uv_triangles, buffers.points,
+                                             buffers.frames));
     if (!rest.needs_frames) return events;
     for (std::size_t b = 0; b < count; ++b)
         if (!rest.bindings[b].uv_only)

@@ -18,6 +18,8 @@ namespace decalcomp {
 struct RestMeshBuffers {
     std::vector<cl_types::DcRestBinding> grids;  // per mesh: its grid (mask and flip left to the binding)
     cl::Buffer vertices, triangles, cells, cell_triangles;
+    // per triangle two float4: (uv0, uv1 - uv0), (uv2 - uv0, 1 / det, 0), for the lookup's barycentrics
+    cl::Buffer uv_triangles;
     bool empty() const { return grids.empty(); }
 };
 // Builds each mesh's UV grid and uploads everything. Throws Error(Input) beyond 2^24 triangles.
