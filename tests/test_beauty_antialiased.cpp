@@ -15,6 +15,7 @@
 #include "decalcomp/exr_file.hpp"
 #include "support/exr_test_io.hpp"
 #include "support/test_support.hpp"
+#include "support/truth_score.hpp"
 
 namespace decalcomp {
 namespace {
@@ -88,9 +89,7 @@ const Measured& measure() {
     const ExrImage truth_image = readExr(test::dataPath(kFolder + "/truth.exr"));
     const Planes before = planes(in), after = planes(readExr(dir.file("out.exr"))), truth = planes(truth_image);
     const std::vector<float> mask = floatSamples(truth_image, "ViewLayer.DecalMask.X");
-    const std::vector<float> z = floatSamples(in, "ViewLayer.Depth.Z");
-    const std::vector<float> nx = floatSamples(in, "ViewLayer.Normal.X"), ny = floatSamples(in, "ViewLayer.Normal.Y"),
-                             nz = floatSamples(in, "ViewLayer.Normal.Z");
+    const test::MixedPixelTest mixed(in);
     std::vector<float> light[3];
     const char* rgb[3] = {"R", "G", "B"};
     for (int k = 0; k < 3; ++k) {
@@ -114,20 +113,12 @@ const Measured& measure() {
     std::size_t& worse = result.worse;
     double& worst = result.worst;
     std::size_t worst_i = 0;
-    for (std::size_t i = 0; i < z.size(); ++i) {
+    for (std::size_t i = 0; i < mask.size(); ++i) {
         const double rebuilt = maxError(after.c, truth.c, i), untouched = maxError(before.c, truth.c, i);
         if (rebuilt - untouched > worst) worst = rebuilt - untouched, worst_i = i;
         if (!(rebuilt > untouched + kNoise)) continue;
         ++worse;
-        const long x = long(i % std::size_t(width));
-        bool jump = false;
-        for (const long d : {-1L, 1L, -long(width), long(width)}) {
-            if ((d == -1 && x == 0) || (d == 1 && x + 1 == width)) continue;
-            const long j = long(i) + d;
-            if (j >= 0 && j < long(z.size()) && std::abs(z[std::size_t(j)] - z[i]) > 0.02f * z[i]) jump = true;
-        }
-        const double length = std::sqrt(double(nx[i]) * nx[i] + double(ny[i]) * ny[i] + double(nz[i]) * nz[i]);
-        result.worse_mixed += jump || length < 0.995;
+        result.worse_mixed += mixed(i);
         result.worse_albedo += maxError(after.a, truth.a, i) > 0.01;
         double formula = 0;
         for (int k = 0; k < 3; ++k) {

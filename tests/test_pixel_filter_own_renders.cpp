@@ -26,7 +26,9 @@
 namespace decalcomp {
 namespace {
 
+using test::compareMixedPixels;
 using test::findFloatChannel;
+using test::MixedPixels;
 using test::Score;
 using test::scoreAgainstTruth;
 
@@ -59,67 +61,6 @@ void compositeOwn(const std::string& folder, const std::string& filter, const st
                                   " --camera " + file("camera.json") + " --device cpu -q --beauty off --pixel-filter " +
                                   filter + " -o " + test::shellQuote(out));
     EXPECT_EQ(run.exit_code, 0) << run.output;
-}
-
-struct MixedPixels {
-    std::size_t pixels = 0, worse = 0;
-    double filtered_psnr = 0, point_psnr = 0;
-    double worst_excess = 0;  // the largest (filtered - point-sampled) channel error
-    int worst_x = -1, worst_y = -1;
-};
-
-// The decal pixels (truth DecalMask > 0.5) whose G-buffer normal is shorter than 0.995 (averaged over
-// two directions) or whose depth jumps by more than 2 % to a 4-neighbour, as in test_blender_truth.cpp:
-// how many the filtered result gets worse than the point-sampled one by more than `tolerance` (the
-// largest channel error).
-MixedPixels compareMixedPixels(const std::string& gbuffer_path, const ExrImage& filtered, const ExrImage& point,
-                               const ExrImage& truth, double tolerance) {
-    const ExrImage g = readExr(gbuffer_path);
-    const int width = g.parts.at(0).width;
-    std::vector<float> nx, ny, nz, z, mask, f[3], p[3], t[3];
-    EXPECT_NE(findFloatChannel(g, "ViewLayer.Normal.X", nx), nullptr);
-    EXPECT_NE(findFloatChannel(g, "ViewLayer.Normal.Y", ny), nullptr);
-    EXPECT_NE(findFloatChannel(g, "ViewLayer.Normal.Z", nz), nullptr);
-    EXPECT_NE(findFloatChannel(g, "ViewLayer.Depth.Z", z), nullptr);
-    EXPECT_NE(findFloatChannel(truth, "ViewLayer.DecalMask.X", mask), nullptr);
-    const char* channel[3] = {"R", "G", "B"};
-    for (int c = 0; c < 3; ++c) {
-        const std::string name = std::string("ViewLayer.DiffCol.") + channel[c];
-        findFloatChannel(filtered, name, f[c]);
-        findFloatChannel(point, name, p[c]);
-        findFloatChannel(truth, name, t[c]);
-    }
-    MixedPixels m;
-    double filtered_squared = 0, point_squared = 0;
-    for (std::size_t i = 0; i < mask.size(); ++i) {
-        if (!(mask[i] > 0.5f)) continue;
-        const long x = long(i % std::size_t(width));
-        bool jump = false;
-        for (const long d : {-1L, 1L, -long(width), long(width)}) {
-            if ((d == -1 && x == 0) || (d == 1 && x + 1 == width)) continue;
-            const long j = long(i) + d;
-            if (j >= 0 && j < long(z.size()) && std::abs(z[std::size_t(j)] - z[i]) > 0.02f * z[i]) jump = true;
-        }
-        const double length = std::sqrt(double(nx[i]) * nx[i] + double(ny[i]) * ny[i] + double(nz[i]) * nz[i]);
-        if (!jump && length >= 0.995) continue;
-        ++m.pixels;
-        double ef = 0, ep = 0;
-        for (int c = 0; c < 3; ++c) {
-            ef = std::max(ef, double(std::abs(f[c][i] - t[c][i])));
-            ep = std::max(ep, double(std::abs(p[c][i] - t[c][i])));
-            filtered_squared += double(f[c][i] - t[c][i]) * double(f[c][i] - t[c][i]);
-            point_squared += double(p[c][i] - t[c][i]) * double(p[c][i] - t[c][i]);
-        }
-        if (ef > ep + tolerance) ++m.worse;
-        if (ef - ep > m.worst_excess) {
-            m.worst_excess = ef - ep;
-            m.worst_x = int(x);
-            m.worst_y = int(i / std::size_t(width));
-        }
-    }
-    m.filtered_psnr = 10.0 * std::log10(3.0 * double(m.pixels) / std::max(filtered_squared, 1e-30));
-    m.point_psnr = 10.0 * std::log10(3.0 * double(m.pixels) / std::max(point_squared, 1e-30));
-    return m;
 }
 
 struct Measured {

@@ -13,20 +13,17 @@
 #include "decalcomp/synth_mesh.hpp"
 #include "support/random_scenes.hpp"
 #include "support/test_support.hpp"
+#include "support/tube_frames.hpp"
 
 namespace decalcomp {
 namespace {
 
 using test::cpuDevice;
+using test::maskObjectOne;
 
 constexpr int kWidth = 200, kHeight = 150;
 
-Camera tubeCamera() {
-    Camera camera;
-    camera.world_to_camera = lookAt({5.0, -1.0, 1.6}, {0.6, 0.0, 1.0}, {0, 0, 1});
-    camera.projection = perspectiveProjection(0.75, double(kWidth) / kHeight, 0.1, 100.0);
-    return camera;
-}
+Camera tubeCamera() { return test::tubeCamera(kWidth, kHeight); }
 
 struct Pose {
     double twist_deg, bend_deg;
@@ -42,14 +39,6 @@ synth::MeshFrame renderPose(const RestMesh& tube, Pose pose) {
     return synth::renderMeshes(meshes, tubeCamera(), kWidth, kHeight);
 }
 
-// Object 1's pixels as the frame's only mask plane (the scene's masks[0] = ids {1}).
-void maskObjectOne(GBuffer& g) {
-    Plane mask;
-    mask.components = 1;
-    mask.samples.assign(g.pixelCount(), 0.0f);
-    for (std::size_t i = 0; i < g.pixelCount(); ++i) mask.samples[i] = g.planes.at(Attribute::ObjectId).at(i, 0) == 1.0f;
-    g.mask_weights = {mask};
-}
 
 // The pose rendered, object 1 masked, and composited by `compositor` (its scene set).
 struct Composited {

@@ -23,6 +23,7 @@
 #include "decalcomp/textures.hpp"
 #include "support/random_scenes.hpp"
 #include "support/test_support.hpp"
+#include "support/tube_frames.hpp"
 #include "support/truth_score.hpp"
 
 namespace decalcomp {
@@ -32,24 +33,14 @@ using test::cpuDevice;
 
 constexpr int kWidth = 200, kHeight = 150;
 
-Camera tubeCamera() {
-    Camera camera;
-    camera.world_to_camera = lookAt({5.0, -1.0, 1.6}, {0.6, 0.0, 1.0}, {0, 0, 1});
-    camera.projection = perspectiveProjection(0.75, double(kWidth) / kHeight, 0.1, 100.0);
-    return camera;
-}
+Camera tubeCamera() { return test::tubeCamera(kWidth, kHeight); }
 
 // The tube twisted and bent, its pixels (object 1) the scene's one mask plane.
 synth::MeshFrame renderTube(const RestMesh& tube, double twist_deg, double bend_deg) {
     std::vector<synth::PosedMesh> meshes(1);
     meshes[0] = {&tube, synth::twistAndBend(tube, twist_deg, bend_deg), 1, glm::vec3(0.6f, 0.5f, 0.4f)};
     synth::MeshFrame frame = synth::renderMeshes(meshes, tubeCamera(), kWidth, kHeight);
-    Plane mask;
-    mask.components = 1;
-    mask.samples.assign(frame.gbuffer.pixelCount(), 0.0f);
-    for (std::size_t i = 0; i < frame.gbuffer.pixelCount(); ++i)
-        mask.samples[i] = frame.gbuffer.planes.at(Attribute::ObjectId).at(i, 0) == 1.0f;
-    frame.gbuffer.mask_weights = {mask};
+    test::maskObjectOne(frame.gbuffer);
     return frame;
 }
 
