@@ -1,6 +1,7 @@
 // Bake mode of texture-space decals (docs/texture-space.md "Bake mode"): the UV-space bake against
 // exact mode on the analytic deforming tube, the seam crack that dilation closes, Cycles' truth on
 // data/blender-deform at 2048², and `decalcomp bake` with reused baked files.
+#include <OpenEXR/ImfStringAttribute.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -472,6 +473,10 @@ TEST(TextureSpaceBakeCli, ExportsReadableLayersThatGiveTheSameResultWhenReused) 
     std::size_t covered = 0;
     for (const glm::vec4& t : png.texels) covered += t.w > 0.5f;
     EXPECT_GT(covered, 1000u);
+    // The same bake gives the same bytes: no capture date in the header (OpenImageIO would stamp one).
+    const std::vector<Imf::Header> headers = readExrHeaders(dir.file("layers/tube_label.exr"));
+    const auto* date = headers.front().findTypedAttribute<Imf::StringAttribute>("capDate");
+    EXPECT_TRUE(!date || date->value().empty()) << date->value();
 
     const std::string reuse = bakeScene(dir, {{"baked", dir.file("layers/tube_label.exr")}}, "reuse.json");
     ASSERT_EQ(batch(dir, scene, "3", "in_run").exit_code, 0);
