@@ -23,5 +23,8 @@ Texture2D loadTexture2D(const std::string& path, AlphaMode alpha = AlphaMode::Au
 
 float srgbToLinear(float encoded);
 float linearToSrgb(float linear);
+// A linear value as an 8-bit sRGB code for display (previews, contact sheets, baked PNGs): clamped
+// to [0, 1], non-finite values as 0, rounded to nearest.
+unsigned char linearToSrgbByte(float linear);
 
 }  // namespace decalcomp

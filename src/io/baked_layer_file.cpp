@@ -123,8 +123,7 @@ void writeBakedLayers(const BakedLayers& layers, const RestMesh& mesh, const std
                 const glm::vec4& t = layers.albedo.texels[i];
                 for (int k = 0; k < 3; ++k) {
                     const float straight = t.w > 0.0f ? t[k] / t.w : 0.0f;
-                    bytes[i * 4 + std::size_t(k)] =
-                        (unsigned char)std::lround(std::clamp(linearToSrgb(straight), 0.0f, 1.0f) * 255.0f);
+                    bytes[i * 4 + std::size_t(k)] = linearToSrgbByte(straight);
                 }
                 bytes[i * 4 + 3] = (unsigned char)std::lround(std::clamp(t.w, 0.0f, 1.0f) * 255.0f);
             }

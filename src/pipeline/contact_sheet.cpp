@@ -48,8 +48,7 @@ Thumbnail makeThumbnail(const GBuffer& gbuffer, int long_side) {
     std::vector<float> linear(std::size_t(thumb.width) * thumb.height * 3);
     small.get_pixels(OIIO::ROI(0, thumb.width, 0, thumb.height, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, linear.data());
     thumb.rgb.resize(linear.size());
-    for (std::size_t i = 0; i < linear.size(); ++i)
-        thumb.rgb[i] = (unsigned char)(linearToSrgb(std::clamp(linear[i], 0.0f, 1.0f)) * 255.0f + 0.5f);
+    for (std::size_t i = 0; i < linear.size(); ++i) thumb.rgb[i] = linearToSrgbByte(linear[i]);
     return thumb;
 }
 

@@ -27,8 +27,7 @@ void writePreview(const GBuffer& before, const GBuffer& after, const Camera& cam
     const int out_w = 2 * w + gap, out_h = rows * h + (rows - 1) * gap;
     std::vector<unsigned char> pixels(std::size_t(out_w) * out_h * 3, 0);
     auto store = [&](int x, int y, int c, float v) {
-        const float encoded = linearToSrgb(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f));
-        pixels[(std::size_t(y) * out_w + x) * 3 + c] = (unsigned char)(encoded * 255.0f + 0.5f);
+        pixels[(std::size_t(y) * out_w + x) * 3 + c] = linearToSrgbByte(v);
     };
     // Lambert with a fixed light from the upper left, in front of the scene, in camera space (-Z
     // forward, +Y up), so it reads the same for any scene.

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include "decalcomp/textures.hpp"
@@ -16,6 +17,11 @@ float linearToSrgb(float linear) {
     const double l = linear;
     if (l <= 0.0031308) return static_cast<float>(l * 12.92);
     return static_cast<float>(1.055 * std::pow(l, 1.0 / 2.4) - 0.055);
+}
+
+unsigned char linearToSrgbByte(float linear) {
+    const float encoded = linearToSrgb(std::clamp(std::isfinite(linear) ? linear : 0.0f, 0.0f, 1.0f));
+    return static_cast<unsigned char>(encoded * 255.0f + 0.5f);
 }
 
 }  // namespace decalcomp
