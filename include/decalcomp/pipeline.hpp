@@ -54,6 +54,8 @@ std::vector<std::string> depthWarnings(const GBuffer& gbuffer, const Camera& cam
 // Whether two paths name one file: by inode when both exist (symlinks and hard links count),
 // else by their absolute, normalised paths.
 bool sameFile(const std::string& a, const std::string& b);
+// Whether `path` ends in `extension` (".exr"), letter case aside.
+bool hasExtension(const std::string& path, const std::string& extension);
 
 // What one run writes and reads, checked before any work: no output may be a file the run reads
 // or another output. EXR inputs may be replaced only with `overwrite_inputs` (--overwrite-input);

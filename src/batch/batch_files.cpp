@@ -119,9 +119,7 @@ void requireRangeInputs(const BatchRequest& request, const BatchPlan& plan, cons
 
 void checkContactSheet(const BatchRequest& request, const BatchPlan& plan, const DecalScene& scene,
                        const std::string& sheet) {
-    std::string ext = fs::path(sheet).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext != ".png")
+    if (!hasExtension(sheet, ".png"))
         throw Error(ErrorKind::Usage, fmt::format("--contact-sheet {}: the sheet is written as PNG; give it a .png name", sheet));
     std::vector<std::pair<std::string, std::string>> files = {  // path, what it is
         {request.scene, "the scene"}, {request.ocio_config, "the OpenColorIO config"}, {request.cameras, "the cameras file"}};

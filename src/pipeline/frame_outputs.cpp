@@ -76,19 +76,15 @@ bool sameFile(const std::string& a, const std::string& b) {
     return landingPath(a) == landingPath(b);
 }
 
-namespace {
-
-bool hasExrExtension(const std::string& path) {
+bool hasExtension(const std::string& path, const std::string& extension) {
     std::string ext = fs::path(path).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext == ".exr";
+    return ext == extension;
 }
-
-}  // namespace
 
 void checkRunFiles(const RunFiles& files, bool overwrite_inputs) {
     for (const std::string& output : files.exr_outputs)
-        if (!hasExrExtension(output))
+        if (!hasExtension(output, ".exr"))
             throw Error(ErrorKind::Usage, fmt::format("{}: the output is written as OpenEXR; give it an .exr name", output));
     std::vector<std::pair<std::string, std::string>> outputs;  // path, what it is
     for (const std::string& output : files.exr_outputs) outputs.emplace_back(output, "output");
