@@ -7,7 +7,45 @@
 #ifndef DECALCOMP_BEAUTY_H
 #define DECALCOMP_BEAUTY_H
 
+#include "reconstruct.h"
 #include "shared_types.h"
+
+/* Mixed pixels of a filtered frame (docs/profiles.md "Mixed pixels"): a normal pass shorter than
+ * DC_MIXED_NORMAL_LENGTH (the filter averaged differing normals), a background 4-neighbour, or one
+ * more than DC_MIXED_DEPTH_JUMP away in relative view depth. */
+#define DC_MIXED_NORMAL_LENGTH 0.995f
+#define DC_MIXED_DEPTH_JUMP 0.02f
+
+/* 0 for a pixel that is not mixed; else the surface pixels of its 3 x 3 neighbourhood, bit
+ * 3 (dy + 1) + (dx + 1), itself included. */
+inline uint dc_mixed_surfaces(__constant const DcFrame* f, __global const float* depth_plane,
+                              __global const float4* position_plane, int x, int y, float view_depth,
+                              float3 normal_pass) {
+    bool mixed = f->has_normal && !f->reconstruct_normals && length(normal_pass) < DC_MIXED_NORMAL_LENGTH;
+    uint surfaces = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if (nx < 0 || ny < 0 || nx >= f->width || ny >= f->height) continue;
+            float z = view_depth;
+            const bool surface = (dx == 0 && dy == 0) || dc_view_depth(f, depth_plane, position_plane, nx, ny, &z);
+            if (surface) surfaces |= 1u << (3 * (dy + 1) + dx + 1);
+            if (dx != 0 && dy != 0) continue; /* the jump and background tests take 4-neighbours */
+            if (!surface || fabs(z - view_depth) > DC_MIXED_DEPTH_JUMP * view_depth) mixed = true;
+        }
+    return mixed ? surfaces : 0u;
+}
+
+/* Light term t at a mixed pixel: per channel, the least of its surface neighbours'. Where a
+ * decal's change has one sign over the footprint, the filtered truth sum(w L delta) lies between
+ * the least and the most light times the filtered change, so the least never overshoots it and
+ * the pixel cannot end up further from the truth than the untouched beauty. */
+inline float3 dc_least_light(__global const float4* term, size_t i, int width, uint surfaces) {
+    float3 least = term[i].xyz;
+    for (int k = 0; k < 9; ++k)
+        if (surfaces & (1u << k)) least = fmin(least, term[(long)i + (long)(k / 3 - 1) * width + (k % 3 - 1)].xyz);
+    return least;
+}
 
 /* Ratio of the fitted direct light with the new and the old world normal; 1 where the fit sees
  * no light from the old normal (it cannot say what the new one receives). */
@@ -26,9 +64,12 @@ inline float3 dc_colour_ratio(float3 before, float3 after) {
                     before.z > 0.0f ? after.z / before.z : 1.0f);
 }
 
+/* `mixed_surfaces` (dc_mixed_surfaces, or 0): at a mixed pixel divided light takes the least light
+ * around it (dc_least_light). Only divided light without relighting reads its neighbours: those
+ * terms are never written, so no other work-item changes them meanwhile. */
 inline void dc_update_beauty(__constant const DcFrame* f, size_t i, size_t pixels, float3 albedo_before,
-                             float3 albedo_after, float3 emission_delta, float relight, __global float4* beauty,
-                             __global float4* light) {
+                             float3 albedo_after, float3 emission_delta, float relight, uint mixed_surfaces,
+                             __global float4* beauty, __global float4* light) {
     /* The loads first, so that their latencies overlap (the compiler cannot move them past the
      * stores below), and whole-float4 stores: on an H200 the update cost 0.13 ms at 1080p with 1024
      * decals written in place term by term, 0.09 ms so (docs/benchmarks.md "Beauty update"). */
@@ -42,7 +83,8 @@ inline void dc_update_beauty(__constant const DcFrame* f, size_t i, size_t pixel
         for (int t = 0; t < terms; ++t) {
             __global float4* term = light + (size_t)t * pixels + i;
             const float4 l4 = t == 0 ? l0 : t == 1 ? l1 : *term;
-            const float3 l = l4.xyz;
+            const float3 l = mixed_surfaces != 0 ? dc_least_light(light + (size_t)t * pixels, i, f->width, mixed_surfaces)
+                                                 : l4.xyz;
             const float scale = t < f->direct_terms ? relight : 1.0f;
             float3 change, rewritten = l;
             if (f->light_divided) {

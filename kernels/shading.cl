@@ -153,8 +153,12 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
             const float relight = frame->relight && s.normal_changed
                                       ? dc_relight_ratio(frame, normalize(in1.xyz), world_normal)
                                       : 1.0f;
+            /* mixed pixels of filtered frames, for divided light without relighting (beauty.h) */
+            const uint mixed_surfaces = frame->filter_taps > 0 && frame->light_divided && !frame->relight
+                                            ? dc_mixed_surfaces(frame, depth_plane, position_plane, x, y, -p.z, in1.xyz)
+                                            : 0u;
             dc_update_beauty(frame, i, (size_t)frame->width * frame->height, in0.xyz, s.albedo, s.emission - in2.xyz,
-                             relight, beauty, light);
+                             relight, mixed_surfaces, beauty, light);
         }
     }
 }

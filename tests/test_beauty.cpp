@@ -10,6 +10,7 @@
 #include "decalcomp/exr_file.hpp"
 #include "decalcomp/reference.hpp"
 #include "decalcomp/synth.hpp"
+#include "decalcomp/synth_antialias.hpp"
 #include "decalcomp/synth_light.hpp"
 #include "support/random_scenes.hpp"
 #include "support/exr_test_io.hpp"
@@ -129,19 +130,25 @@ TEST(BeautyTruth, EdgePixelsGetNoWorseThanUntouched) {
     EXPECT_LT(rebuilt, untouched) << edges << " edge pixels";
 }
 
+// The generator's beauty (RGB) and its two light terms, direct and indirect, divided as Blender's.
+BeautyPlanes generatorPlanes(const synth::LightPasses& light, std::size_t pixels) {
+    BeautyPlanes planes;
+    planes.beauty = {3, {}};
+    for (std::size_t i = 0; i < pixels; ++i)
+        for (int c = 0; c < 3; ++c) planes.beauty.samples.push_back(light.beauty.at(i, c));
+    planes.light = {light.direct, light.indirect};
+    planes.direct_terms = 1;
+    planes.summed_terms = 2;
+    return planes;
+}
+
 // The generator's Combined is exactly albedo * (DiffDir + DiffInd): the update is exact to float rounding.
 TEST(BeautyAnalytic, GeneratorPassesRebuildExactly) {
     const Camera camera = synth::demoCamera(160, 120);
     GBuffer frame = synth::render(synth::demoScene(), camera, {160, 120});
     const DecalScene scene = synth::scatterDecals(frame, camera, {24, 0.4, 1.2});
     const synth::LightPasses light = synth::lightPasses(frame);
-    BeautyPlanes planes;
-    planes.beauty = {3, {}};
-    for (std::size_t i = 0; i < frame.pixelCount(); ++i)
-        for (int c = 0; c < 3; ++c) planes.beauty.samples.push_back(light.beauty.at(i, c));
-    planes.light = {light.direct, light.indirect};
-    planes.direct_terms = 1;
-    planes.summed_terms = 2;
+    BeautyPlanes planes = generatorPlanes(light, frame.pixelCount());
     Compositor compositor(test::cpuDevice());
     compositor.setScene(scene);
     const GBuffer before = frame;
@@ -194,6 +201,45 @@ TEST_P(BeautyKernel, MatchesTheReference) {
 
 INSTANTIATE_TEST_SUITE_P(Light, BeautyKernel, ::testing::Values(true, false),
                          [](const auto& param) { return param.param ? "Divided" : "Multiplied"; });
+
+// Mixed pixels of a filtered frame (silhouettes, creases): divided light takes the least light of
+// each term around the pixel, kernel and reference alike (docs/profiles.md "Mixed pixels"). The demo
+// scene rendered 4x finer and filtered down with Blackman-Harris 3 px, as Cycles filters.
+TEST(BeautyKernel, MixedPixelsTakeTheLeastLight) {
+    constexpr int kWidth = 128, kHeight = 96, kFactor = 4;
+    const Camera fine_camera = synth::demoCamera(kWidth * kFactor, kHeight * kFactor);
+    const GBuffer fine =
+        synth::render(synth::demoScene(), fine_camera, synth::RenderOptions{kWidth * kFactor, kHeight * kFactor});
+    const Camera camera = synth::demoCamera(kWidth, kHeight);
+    GBuffer frame = synth::filterDown(fine, kFactor, parsePixelFilter("blackman-harris:3", ""));
+    const DecalScene scene = synth::scatterDecals(frame, camera, {48, 0.4, 1.2, 4, 16, 3});
+    const synth::LightPasses light = synth::lightPasses(frame);
+    BeautyPlanes planes = generatorPlanes(light, frame.pixelCount());
+    BeautyPlanes expected = planes, plain = planes;
+    const GBuffer before = frame;
+    Compositor compositor(test::cpuDevice());
+    compositor.setScene(scene);
+    compositor.composite(frame, camera, {}, &planes);
+    const reference::MixedPixels mixed = reference::mixedPixels(before, camera);
+    reference::updateBeauty(before.planes, frame.planes, expected, mixed);
+    reference::updateBeauty(before.planes, frame.planes, plain);
+    std::size_t mixed_changed = 0, least_differs = 0;
+    for (std::size_t i = 0; i < frame.pixelCount(); ++i) {
+        for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(planes.beauty.at(i, c), expected.beauty.at(i, c), 2e-6) << "pixel " << i << " channel " << c;
+        if (mixed.surfaces[i] == 0) continue;
+        bool changed = false, differs = false;
+        for (int c = 0; c < 3; ++c) {
+            changed |= frame.planes.at(Attribute::Albedo).at(i, c) != before.planes.at(Attribute::Albedo).at(i, c);
+            differs |= std::abs(expected.beauty.at(i, c) - plain.beauty.at(i, c)) > 1e-3;
+        }
+        mixed_changed += changed;
+        least_differs += differs;
+    }
+    // decals reach many silhouettes, and there the least light differs from the pixel's own
+    EXPECT_GT(mixed_changed, 100u);
+    EXPECT_GT(least_differs, 20u);
+}
 
 // No light passes: auto warns that the beauty is not rebuilt, on fails naming them, off is silent.
 TEST(BeautyControl, MissingPassesWarnOrFail) {

@@ -138,30 +138,32 @@ const Measured& measure() {
 }
 
 // Over the decal pixels the rebuilt beauty is far nearer the truth than the untouched one. Measured
-// 41.16 dB rebuilt, 18.88 untouched (22.3 dB apart); the albedo itself scores 36.73 dB there.
+// 36.85 dB rebuilt, 18.88 untouched (18.0 dB apart); the albedo itself scores 36.73 dB there. (The
+// pixel's own light at the mixed pixels too scored 41.16 dB, but with 68 pixels worse than untouched;
+// see below.)
 TEST(BeautyAntialiased, RebuiltFarAboveUntouched) {
     const Measured& m = measure();
     RecordProperty("psnr_db", std::to_string(m.rebuilt_db));
     RecordProperty("untouched_psnr_db", std::to_string(m.untouched_db));
-    EXPECT_GE(m.rebuilt_db, m.untouched_db + 20.0);
+    EXPECT_GE(m.rebuilt_db, m.untouched_db + 15.0);
+    EXPECT_GE(m.rebuilt_db, 36.85 - 0.5);
 }
 
-// Issue 14 asks that no pixel get worse than leaving it untouched (beyond the truth's noise,
-// kNoise). NOT met here: 68 pixels are, every one of them a mixed pixel (silhouettes, creases), 32
-// of them even when the formula is fed the truth's own albedo, because Cycles divides its light
-// passes by the colour after filtering (docs/profiles.md "Mixed pixels"). Leaving the beauty
-// untouched at every mixed pixel would meet the bar but costs 8 dB over the decal pixels (41.16 ->
-// 33.10 dB, measured with that rule) and leaves a seam of old beauty along each silhouette, so
-// decalcomp updates them. This test holds what is true: no pixel that is not mixed is worse, and the
-// mixed ones that are do not grow in number.
-TEST(BeautyAntialiased, OnlyMixedPixelsWorseThanUntouched) {
+// Issue 14: no pixel gets worse than leaving it untouched (beyond the truth's noise, kNoise). With
+// each pixel's own light this failed at 68 mixed pixels (silhouettes, creases), 32 of them even when
+// fed the truth's own albedo: Cycles divides its light passes by the colour after filtering, so
+// where light and the decal's change vary together inside the footprint the pixel's light is the
+// wrong weight. Mixed pixels now take the least light around them (docs/profiles.md "Mixed
+// pixels"), which undershoots rather than overshoots: no pixel is worse (the worst comes within
+// 0.029 of the untouched error, under the noise), and the mixed pixels keep an update (leaving them
+// untouched instead scored 33.10 dB).
+TEST(BeautyAntialiased, NoPixelWorseThanUntouched) {
     const Measured& m = measure();
     RecordProperty("worse_pixels", std::to_string(m.worse));
     RecordProperty("worst_excess", std::to_string(m.worst));
-    EXPECT_EQ(m.worse, m.worse_mixed) << "a pixel that is not mixed got worse than untouched";
-    EXPECT_LE(m.worse, 68u) << m.worse_mixed << " of them mixed, " << m.worse_albedo << " with the albedo off by > 0.01, "
-                            << m.worse_formula << " worse even with the truth's albedo; worst by " << m.worst
-                            << " at x " << m.worst_x << ", y " << m.worst_y;
+    EXPECT_EQ(m.worse, 0u) << m.worse_mixed << " of them mixed, " << m.worse_albedo << " with the albedo off by > 0.01, "
+                           << m.worse_formula << " worse even with the truth's albedo; worst by " << m.worst << " at x "
+                           << m.worst_x << ", y " << m.worst_y;
 }
 
 }  // namespace

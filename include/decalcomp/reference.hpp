@@ -89,9 +89,19 @@ struct ShadeResult {
 ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& scene,
                   double margin = 2e-5);
 
+// Mixed pixels of a filtered frame (docs/profiles.md "Mixed pixels"): the normal pass shorter than
+// 0.995, a background 4-neighbour or one more than 2 % away in view depth. Per pixel: 0 where not
+// mixed, else the surface (non-background) pixels of its 3 x 3 neighbourhood, bit 3 (dy + 1) + dx + 1.
+struct MixedPixels {
+    int width = 0;
+    std::vector<std::uint16_t> surfaces;  // empty: no pixel is treated as mixed
+};
+MixedPixels mixedPixels(const GBuffer& frame, const Camera& camera);
+
 // The beauty update (docs/profiles.md "Beauty") where the albedo or emission of `after` differs from
 // `before`: the beauty and, for multiplied light, the light terms of `planes` change. No relight.
+// At `mixed` pixels divided light takes, per channel, the least of each term around the pixel.
 void updateBeauty(const std::map<Attribute, Plane>& before, const std::map<Attribute, Plane>& after,
-                  BeautyPlanes& planes);
+                  BeautyPlanes& planes, const MixedPixels& mixed = {});
 
 }  // namespace decalcomp::reference
