@@ -82,15 +82,16 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
     const bool has_group2 = (attributes & ((1 << DC_TARGET_EMISSION) | (1 << DC_TARGET_AO))) != 0;
     /* The planes are changed in place: pixels no decal reaches (background among them) are
      * neither read nor written, so they keep their samples bit for bit. */
-    float3 p;
-    if (!dc_reconstruct(frame, depth_plane, position_plane, x, y, &p)) return;
     int begin = 0, end = frame->decal_count;
     if (binned) {
         const int tile = (y / DC_TILE_SIZE) * frame->tiles_x + x / DC_TILE_SIZE;
         begin = tile_offsets[tile];
         end = min(tile_offsets[tile + 1], list_capacity); /* an overflowed list: the frame runs again */
     }
+    /* the tile's list before the pixel's point: tiles no decal reaches read nothing but it */
     if (begin >= end) return;
+    float3 p;
+    if (!dc_reconstruct(frame, depth_plane, position_plane, x, y, &p)) return;
     const float4 in0 = surface0[i];
     const float4 in1 = has_group1 ? surface1[i] : (float4)(0.0f);
     const float4 in2 = has_group2 ? surface2[i] : (float4)(0.0f);
