@@ -36,14 +36,16 @@ inline uint dc_mixed_surfaces(__constant const DcFrame* f, __global const float*
     return mixed ? surfaces : 0u;
 }
 
-/* Light term t at a mixed pixel: per channel, the least of its surface neighbours'. Where a
+/* Light term t at a mixed pixel (`own`: the pixel's, already loaded): per channel, the least of
+ * its own and its surface neighbours'. Where a
  * decal's change has one sign over the footprint, the filtered truth sum(w L delta) lies between
  * the least and the most light times the filtered change, so the least never overshoots it and
  * the pixel cannot end up further from the truth than the untouched beauty. */
-inline float3 dc_least_light(__global const float4* term, size_t i, int width, uint surfaces) {
-    float3 least = term[i].xyz;
+inline float3 dc_least_light(float3 own, __global const float4* term, size_t i, int width, uint surfaces) {
+    float3 least = own;
     for (int k = 0; k < 9; ++k)
-        if (surfaces & (1u << k)) least = fmin(least, term[(long)i + (long)(k / 3 - 1) * width + (k % 3 - 1)].xyz);
+        if (k != 4 && (surfaces & (1u << k)))
+            least = fmin(least, term[(long)i + (long)(k / 3 - 1) * width + (k % 3 - 1)].xyz);
     return least;
 }
 
@@ -83,8 +85,9 @@ inline void dc_update_beauty(__constant const DcFrame* f, size_t i, size_t pixel
         for (int t = 0; t < terms; ++t) {
             __global float4* term = light + (size_t)t * pixels + i;
             const float4 l4 = t == 0 ? l0 : t == 1 ? l1 : *term;
-            const float3 l = mixed_surfaces != 0 ? dc_least_light(light + (size_t)t * pixels, i, f->width, mixed_surfaces)
-                                                 : l4.xyz;
+            const float3 l = mixed_surfaces != 0
+                                 ? dc_least_light(l4.xyz, light + (size_t)t * pixels, i, f->width, mixed_surfaces)
+                                 : l4.xyz;
             const float scale = t < f->direct_terms ? relight : 1.0f;
             float3 change, rewritten = l;
             if (f->light_divided) {

@@ -17,7 +17,9 @@
 
 namespace decalcomp::reference {
 
-// World-space point seen by data-window pixel (x, y), or nullopt for background.
+// Camera-space point seen by data-window pixel (x, y), or nullopt for background.
+std::optional<glm::dvec3> pixelCameraPoint(const GBuffer& frame, const Camera& camera, int x, int y);
+// The same point in world space.
 std::optional<glm::dvec3> pixelWorldPoint(const GBuffer& frame, const Camera& camera, int x, int y);
 
 struct DepthRange {

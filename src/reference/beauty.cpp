@@ -19,9 +19,9 @@ void setRgb(Plane& plane, std::size_t pixel, const glm::dvec3& v) {
 
 // The view depth (camera-space -z) of pixel (x, y); nullopt for background.
 std::optional<double> viewDepth(const GBuffer& frame, const Camera& camera, int x, int y) {
-    const auto p = pixelWorldPoint(frame, camera, x, y);
+    const auto p = pixelCameraPoint(frame, camera, x, y);
     if (!p) return std::nullopt;
-    return -(camera.world_to_camera * glm::dvec4(*p, 1.0)).z;
+    return -p->z;
 }
 
 // Per channel, the least of light term `term` over the surface pixels `surfaces` around pixel i.

@@ -28,7 +28,9 @@ glm::dvec3 unproject(const glm::dmat4& inverse_projection, glm::dvec2 ndc, doubl
     return glm::dvec3(c) / c.w;
 }
 
-std::optional<glm::dvec3> cameraPoint(const GBuffer& f, const Camera& camera, int x, int y) {
+}  // namespace
+
+std::optional<glm::dvec3> pixelCameraPoint(const GBuffer& f, const Camera& camera, int x, int y) {
     const std::size_t i = std::size_t(y) * f.width + x;
     const bool perspective = !camera.isOrthographic();
     const glm::dmat4 inverse_projection = glm::inverse(camera.projection);
@@ -73,6 +75,8 @@ std::optional<glm::dvec3> cameraPoint(const GBuffer& f, const Camera& camera, in
     return p;
 }
 
+namespace {
+
 // Normal from neighbouring points (camera space), per axis from the neighbour nearer in depth;
 // `tie` is set when both neighbours are about as near, so float rounding may pick either.
 glm::dvec3 normalFromDepth(const GBuffer& f, const Camera& camera, int x, int y, const glm::dvec3& p, bool& tie) {
@@ -85,7 +89,7 @@ glm::dvec3 normalFromDepth(const GBuffer& f, const Camera& camera, int x, int y,
             const int step = side == 0 ? -1 : 1;
             const int nx = a == 0 ? x + step : x, ny = a == 0 ? y : y + step;
             if (nx < 0 || ny < 0 || nx >= f.width || ny >= f.height) continue;
-            const auto q = cameraPoint(f, camera, nx, ny);
+            const auto q = pixelCameraPoint(f, camera, nx, ny);
             if (!q) continue;
             gaps[side] = std::abs(q->z - p.z);
             diffs[side] = (*q - p) * double(step);
@@ -110,7 +114,7 @@ glm::dvec3 normalFromDepth(const GBuffer& f, const Camera& camera, int x, int y,
 }  // namespace
 
 std::optional<glm::dvec3> pixelWorldPoint(const GBuffer& frame, const Camera& camera, int x, int y) {
-    auto p = cameraPoint(frame, camera, x, y);
+    auto p = pixelCameraPoint(frame, camera, x, y);
     if (!p) return std::nullopt;
     return glm::dvec3(glm::inverse(camera.world_to_camera) * glm::dvec4(*p, 1.0));
 }
@@ -121,7 +125,7 @@ std::vector<DepthRange> tileDepthRanges(const GBuffer& frame, const Camera& came
     std::vector<DepthRange> ranges(std::size_t(tiles_x) * tiles_y);
     for (int y = 0; y < frame.height; ++y)
         for (int x = 0; x < frame.width; ++x) {
-            const auto p = cameraPoint(frame, camera, x, y);
+            const auto p = pixelCameraPoint(frame, camera, x, y);
             if (!p) continue;
             DepthRange& r = ranges[std::size_t(y / tile_size) * tiles_x + x / tile_size];
             const double depth = -p->z;
@@ -635,7 +639,7 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
             if (has_normal) {
                 normal = decodedNormal(frame, camera, i);
             } else if (angle_fades) {
-                const glm::dvec3 n_cam = normalFromDepth(frame, camera, x, y, *cameraPoint(frame, camera, x, y), normal_tie);
+                const glm::dvec3 n_cam = normalFromDepth(frame, camera, x, y, *pixelCameraPoint(frame, camera, x, y), normal_tie);
                 normal = glm::normalize(glm::dvec3(camera_to_world * glm::dvec4(n_cam, 0.0)));
             }
             Footprint footprint;
