@@ -13,8 +13,6 @@
 /* Mixed pixels of a filtered frame (docs/profiles.md "Mixed pixels"): a normal pass shorter than
  * DC_MIXED_NORMAL_LENGTH (the filter averaged differing normals), a background 4-neighbour, or one
  * more than DC_MIXED_DEPTH_JUMP away in relative view depth. */
-#define DC_MIXED_NORMAL_LENGTH 0.995f
-#define DC_MIXED_DEPTH_JUMP 0.02f
 
 /* 0 for a pixel that is not mixed; else the surface pixels of its 3 x 3 neighbourhood, bit
  * 3 (dy + 1) + (dx + 1), itself included. */

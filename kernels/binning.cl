@@ -120,7 +120,11 @@ inline int dc_coarse_tiles_y(__constant const DcFrame* f) {
     return (f->tiles_y + DC_COARSE_TILES - 1) / DC_COARSE_TILES;
 }
 
-/* Depth range of each coarse tile from its tiles' ranges. */
+/* Tiles around a tile whose depths its pixels may reach: under a pixel filter a silhouette pixel
+ * takes taps on surfaces up to DC_SPLIT_WINDOW pixels away (pixel_filter.h), within one tile. */
+inline int dc_depth_apron(__constant const DcFrame* f) { return f->filter_taps > 0 ? 1 : 0; }
+
+/* Depth range of each coarse tile from its tiles' ranges (and the apron's). */
 __kernel void dc_coarse_depth(__constant const DcFrame* frame, __global const float2* tile_depth,
                               __global float2* coarse_depth) {
     const int c = get_global_id(0);
@@ -128,8 +132,10 @@ __kernel void dc_coarse_depth(__constant const DcFrame* frame, __global const fl
     if (c >= cx_count * dc_coarse_tiles_y(frame)) return;
     const int cx = c % cx_count, cy = c / cx_count;
     float2 r = (float2)(MAXFLOAT, -MAXFLOAT);
-    for (int ty = cy * DC_COARSE_TILES; ty < min(frame->tiles_y, (cy + 1) * DC_COARSE_TILES); ++ty)
-        for (int tx = cx * DC_COARSE_TILES; tx < min(frame->tiles_x, (cx + 1) * DC_COARSE_TILES); ++tx) {
+    const int apron = dc_depth_apron(frame);
+    for (int ty = max(0, cy * DC_COARSE_TILES - apron); ty < min(frame->tiles_y, (cy + 1) * DC_COARSE_TILES + apron); ++ty)
+        for (int tx = max(0, cx * DC_COARSE_TILES - apron); tx < min(frame->tiles_x, (cx + 1) * DC_COARSE_TILES + apron);
+             ++tx) {
             const float2 t = tile_depth[ty * frame->tiles_x + tx];
             r = (float2)(fmin(r.x, t.x), fmax(r.y, t.y));
         }
@@ -201,9 +207,15 @@ inline int dc_tile_bin(__constant const DcFrame* frame, __global const DcDecalBo
                        __global const float2* tile_depth, __global const int* coarse_offsets,
                        __global const int* coarse_lists, int coarse_capacity, int tile, int room,
                        __global int* out) {
-    const float2 range = tile_depth[tile];
-    if (!(range.x <= range.y)) return 0;
+    float2 range = tile_depth[tile];
+    if (!(range.x <= range.y)) return 0; /* no surface pixel to shade */
     const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x;
+    const int apron = dc_depth_apron(frame);
+    for (int ny = max(0, ty - apron); ny <= min(frame->tiles_y - 1, ty + apron); ++ny)
+        for (int nx = max(0, tx - apron); nx <= min(frame->tiles_x - 1, tx + apron); ++nx) {
+            const float2 t = tile_depth[ny * frame->tiles_x + nx];
+            range = (float2)(fmin(range.x, t.x), fmax(range.y, t.y));
+        }
     const int c = (ty / DC_COARSE_TILES) * dc_coarse_tiles_x(frame) + tx / DC_COARSE_TILES;
     int n = 0;
     /* an overflowed coarse list is read only up to its capacity: the frame runs again anyway */

@@ -20,15 +20,35 @@ typedef struct {
     float reach;    /* camera-space radius holding every tap and half a stratum around it */
 } DcTapPlane;
 
-/* How a pixel is integrated: point-sampled at its centre, or over its tangent plane. */
+/* How a pixel is integrated: point-sampled at its centre, over its tangent plane, or split
+ * between two surfaces' planes at a silhouette. */
 #define DC_TAPS_POINT 0
 #define DC_TAPS_PLANE 1
+#define DC_TAPS_SPLIT 2
 
 typedef struct {
     int mode;
     DcTapRays rays;
     DcTapPlane plane;
+    /* DC_TAPS_SPLIT: `plane` is the nearer surface, `other` the farther; a tap at pixel offset
+     * (u, v) lies on `plane` for its share dc_tap_share (a ramp across the line
+     * dot(split_dir, (u, v)) = split_c, one stratum wide) and on `other` for the rest. */
+    DcTapPlane other;
+    float2 split_dir;
+    float split_c, split_width;
+    /* each surface's own material, for `plane` [0] and `other` [1]: its clean pixel's as the file
+     * holds it, (albedo, roughness) and metallic, then as the decals so far left it (the mean over
+     * the surface's taps); decals blend into these, not into the mix */
+    float4 material[2];
+    float metallic[2];
+    float3 normal[2]; /* each surface's camera-space normal, as decals turn it */
+    float3 centre, centre_normal; /* the pixel's own point and normal */
 } DcTaps;
+
+/* The share of the tap at pixel offset (u, v) that lies on the split's nearer surface. */
+inline float dc_tap_share(const DcTaps* t, float u, float v) {
+    return clamp((t->split_c - (t->split_dir.x * u + t->split_dir.y * v)) / t->split_width + 0.5f, 0.0f, 1.0f);
+}
 
 /* The tap at pixel offset (u, v) on `plane`; false when its ray misses it in front of the camera. */
 inline bool dc_tap_point(const DcTapRays* r, const DcTapPlane* plane, float u, float v, float3* out) {
@@ -73,12 +93,168 @@ inline bool dc_tap_plane(__constant const DcFrame* f, const DcTapRays* rays, flo
     return true;
 }
 
+/* Silhouettes (docs/pixel-filter.md "Silhouettes"): a pixel with a 4-neighbour more than
+ * DC_MIXED_DEPTH_JUMP away in view depth may average a nearer and a farther surface (its depth is
+ * one sample's: renderers do not filter depth). Its taps go to the planes of the nearest clean
+ * pixel of each surface within the window, split by a line across the direction from the nearer
+ * surface's clean pixels to the farther's. The line sits where the nearer surface's share of the
+ * filter matches the share that its albedo and normal have in the pixel's filtered ones. */
+#define DC_CLEAN_DEPTH_STEP 0.01f
+/* the window reaches at most this many pixels from the pixel (binning adds one tile around each) */
+#define DC_SPLIT_WINDOW 3
+/* bisection steps placing the split line: 2^-16 of the footprint */
+#define DC_SPLIT_STEPS 16
+
+/* A clean pixel: every 4-neighbour a surface within DC_CLEAN_DEPTH_STEP of its view depth z. */
+inline bool dc_clean_pixel(__constant const DcFrame* f, __global const float* depth_plane,
+                           __global const float4* position_plane, int x, int y, float z) {
+    for (int k = 0; k < 4; ++k) {
+        const int nx = x + (k == 0) - (k == 1), ny = y + (k == 2) - (k == 3);
+        float zn;
+        if (nx < 0 || ny < 0 || nx >= f->width || ny >= f->height) continue;
+        if (!dc_view_depth(f, depth_plane, position_plane, nx, ny, &zn) ||
+            !(fabs(zn - z) <= DC_CLEAN_DEPTH_STEP * z))
+            return false;
+    }
+    return true;
+}
+
+/* The filter's weight on the nearer surface with the split line at c. */
+inline float dc_split_weight(__constant const DcFrame* f, DcTaps* t, float c) {
+    t->split_c = c;
+    float sum = 0.0f;
+    for (int j = 0; j < f->filter_taps; ++j)
+        for (int i = 0; i < f->filter_taps; ++i)
+            sum += f->filter_weight[i] * f->filter_weight[j] * dc_tap_share(t, f->filter_offset[i], f->filter_offset[j]);
+    return sum;
+}
+
+/* The nearer surface's share of a mixed pixel: v = w near + (1 - w) far for its filtered albedo,
+ * least squares over the channels. Where the albedos are too alike to tell (DC_SHARE_CONTRAST), the
+ * normal pass instead: less exact, since a curved surface's normal at the silhouette differs from
+ * its clean pixel's. -1 where neither tells the surfaces apart. */
+#define DC_SHARE_CONTRAST 0.01f
+inline float dc_mixed_share(float3 albedo, float3 albedo_near, float3 albedo_far, float3 normal, float3 normal_near,
+                            float3 normal_far, int has_normal) {
+    const float3 da = albedo_near - albedo_far, dn = normal_near - normal_far;
+    if (dot(da, da) > DC_SHARE_CONTRAST) return clamp(dot(albedo - albedo_far, da) / dot(da, da), 0.0f, 1.0f);
+    if (has_normal && dot(dn, dn) > DC_SHARE_CONTRAST) return clamp(dot(normal - normal_far, dn) / dot(dn, dn), 0.0f, 1.0f);
+    return -1.0f;
+}
+
+/* A clean pixel's camera-space normal: its normal pass, else from its depths. */
+inline float3 dc_clean_normal(__constant const DcFrame* f, __global const float* depth_plane,
+                              __global const float4* position_plane, __global const float4* original1,
+                              int has_normal, int x, int y, float3 q) {
+    if (has_normal) return normalize(dc_world_to_camera_vector(f, original1[(size_t)y * f->width + x].xyz));
+    return dc_normal_from_depth(f, depth_plane, position_plane, x, y, q);
+}
+
+/* Splits a silhouette pixel's taps between its two surfaces (see above). `original0/1`: the
+ * material planes as the file holds them (the albedo group; the normal group where `has_normal`),
+ * since neighbours' planes may already hold their decals. Leaves t as it is where the pixel is not
+ * a silhouette or its surfaces cannot be told apart. */
+inline void dc_split_silhouette(__constant const DcFrame* f, __global const float* depth_plane,
+                                __global const float4* position_plane, __global const float4* original0,
+                                __global const float4* original1, int has_normal, int x, int y, float3 p,
+                                float3 n, DcTaps* t) {
+    const float z = -p.z;
+    bool jump = false;
+    for (int k = 0; k < 4; ++k) {
+        const int nx = x + (k == 0) - (k == 1), ny = y + (k == 2) - (k == 3);
+        float zn;
+        if (nx >= 0 && ny >= 0 && nx < f->width && ny < f->height &&
+            dc_view_depth(f, depth_plane, position_plane, nx, ny, &zn) && fabs(zn - z) > DC_MIXED_DEPTH_JUMP * z)
+            jump = true;
+    }
+    if (!jump) return;
+    /* pass 0: the depth range of the window's clean pixels; pass 1: the nearer and the farther
+     * half, each one's nearest pixel and the mean offset */
+    const int window = clamp((int)ceil(f->filter_radius + 0.5f) + 1, 2, DC_SPLIT_WINDOW);
+    float z_min = MAXFLOAT, z_max = 0.0f;
+    int2 near_px = (int2)(0), far_px = (int2)(0);
+    int near_d2 = 1 << 20, far_d2 = 1 << 20;
+    float2 near_sum = (float2)(0.0f), far_sum = (float2)(0.0f);
+    float near_count = 0.0f, far_count = 0.0f;
+    for (int pass = 0; pass < 2; ++pass) {
+        const float z_mid = 0.5f * (z_min + z_max);
+        for (int dy = -window; dy <= window; ++dy)
+            for (int dx = -window; dx <= window; ++dx) {
+                const int nx = x + dx, ny = y + dy;
+                float zq;
+                if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= f->width || ny >= f->height ||
+                    !dc_view_depth(f, depth_plane, position_plane, nx, ny, &zq) ||
+                    !dc_clean_pixel(f, depth_plane, position_plane, nx, ny, zq))
+                    continue;
+                if (pass == 0) {
+                    z_min = fmin(z_min, zq);
+                    z_max = fmax(z_max, zq);
+                    continue;
+                }
+                const int d2 = dx * dx + dy * dy;
+                if (zq < z_mid) {
+                    near_sum += (float2)(dx, dy);
+                    near_count += 1.0f;
+                    if (d2 < near_d2) { near_d2 = d2; near_px = (int2)(nx, ny); }
+                } else {
+                    far_sum += (float2)(dx, dy);
+                    far_count += 1.0f;
+                    if (d2 < far_d2) { far_d2 = d2; far_px = (int2)(nx, ny); }
+                }
+            }
+        if (!(z_max - z_min > DC_MIXED_DEPTH_JUMP * z)) return;
+    }
+    float2 dir = far_sum / far_count - near_sum / near_count;
+    if (!(length(dir) > 0.25f)) return;
+    dir = normalize(dir);
+    float3 pn, pf;
+    if (!dc_reconstruct(f, depth_plane, position_plane, near_px.x, near_px.y, &pn) ||
+        !dc_reconstruct(f, depth_plane, position_plane, far_px.x, far_px.y, &pf))
+        return;
+    const size_t i = (size_t)y * f->width + x, in = (size_t)near_px.y * f->width + near_px.x,
+                 jf = (size_t)far_px.y * f->width + far_px.x;
+    const float share = dc_mixed_share(original0[i].xyz, original0[in].xyz, original0[jf].xyz,
+                                       has_normal ? original1[i].xyz : (float3)(0.0f),
+                                       has_normal ? original1[in].xyz : (float3)(0.0f),
+                                       has_normal ? original1[jf].xyz : (float3)(0.0f), has_normal);
+    if (share < 0.0f) return;
+    DcTaps s = *t;
+    if (!dc_tap_plane(f, &s.rays, pn, dc_clean_normal(f, depth_plane, position_plane, original1, has_normal,
+                                                      near_px.x, near_px.y, pn), &s.plane) ||
+        !dc_tap_plane(f, &s.rays, pf, dc_clean_normal(f, depth_plane, position_plane, original1, has_normal,
+                                                      far_px.x, far_px.y, pf), &s.other))
+        return;
+    /* the line where the filter's weight on the nearer side is the nearer surface's share */
+    s.split_dir = dir;
+    s.split_width = f->filter_step * (fabs(dir.x) + fabs(dir.y));
+    const float reach = f->filter_radius + s.split_width;
+    const float total = dc_split_weight(f, &s, reach);
+    float lo = -reach, hi = reach;
+    for (int it = 0; it < DC_SPLIT_STEPS; ++it) {
+        const float c = 0.5f * (lo + hi);
+        if (dc_split_weight(f, &s, c) < share * total) lo = c; else hi = c;
+    }
+    s.split_c = 0.5f * (lo + hi);
+    s.material[0] = original0[in];
+    s.material[1] = original0[jf];
+    const bool has_group1 = (f->attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
+    s.metallic[0] = has_group1 ? original1[in].w : 0.0f;
+    s.metallic[1] = has_group1 ? original1[jf].w : 0.0f;
+    s.normal[0] = s.plane.n;
+    s.normal[1] = s.other.n;
+    s.centre = p;
+    s.centre_normal = n;
+    s.mode = DC_TAPS_SPLIT;
+    *t = s;
+}
+
 /* How pixel (x, y) at p with camera-space unit normal n is integrated (docs/pixel-filter.md
  * "Mixed pixels"): over its own tangent plane, also at silhouettes and creases (whose averaged
  * depth and normal make a plane between the surfaces), but point-sampled beside background and
  * at grazing angles. */
 inline DcTaps dc_taps(__constant const DcFrame* f, __global const float* depth_plane,
-                      __global const float4* position_plane, int x, int y, float3 p, float3 n) {
+                      __global const float4* position_plane, __global const float4* original0,
+                      __global const float4* original1, int has_normal, int x, int y, float3 p, float3 n) {
     DcTaps t;
     t.mode = DC_TAPS_POINT;
     for (int k = 0; k < 4; ++k) {
@@ -97,6 +273,7 @@ inline DcTaps dc_taps(__constant const DcFrame* f, __global const float* depth_p
     t.rays.dir_u = d1 - t.rays.dir;
     t.rays.dir_v = d2 - t.rays.dir;
     if (dc_tap_plane(f, &t.rays, p, n, &t.plane)) t.mode = DC_TAPS_PLANE;
+    dc_split_silhouette(f, depth_plane, position_plane, original0, original1, has_normal, x, y, p, n, &t);
     return t;
 }
 

@@ -23,6 +23,12 @@ inline float3 dc_world_to_camera_vector(__constant const DcFrame* f, float3 v) {
                     dot(vload3(0, f->world_to_camera + 8), v));
 }
 
+/* Relative view-depth step between 4-neighbours beyond which a filtered frame's pixel mixes two
+ * surfaces (a silhouette): the beauty's mixed pixels and the pixel filter's split taps. */
+#define DC_MIXED_DEPTH_JUMP 0.02f
+/* A normal pass shorter than this: the filter averaged differing normals. */
+#define DC_MIXED_NORMAL_LENGTH 0.995f
+
 inline bool dc_is_background_depth(float d) { return !(d > 0.0f) || isinf(d) || d >= DC_BACKGROUND_DEPTH; }
 
 /* Writes the camera-space point of pixel (x, y) and returns true, or returns false for

@@ -26,37 +26,87 @@ inline DcTaps dc_point_taps(void) {
     return t;
 }
 
-/* Decal d integrated over the pixel filter's taps on `plane` (docs/pixel-filter.md): each tap
- * blends the decal into s as it stands, and the result is their weighted mean, linear in the
- * decal's coverage as the renderer's filter is. Sets *applied when some tap reached the decal. */
-DC_INLINE DcSurface dc_filter_decal(__constant const DcFrame* frame, __global const DcDecal* d, const DcTapRays* rays,
-                                    const DcTapPlane* plane, int has_normal, float weight,
-                                    __global const DcTexture* textures, __global const float4* texels,
-                                    __global const uint* occlusion_maps, DcSurface s, const int variant,
-                                    int* applied) {
+/* Decal d integrated over the pixel filter's taps (docs/pixel-filter.md): each tap blends the decal
+ * into s as it stands, and the result is their weighted mean, linear in the decal's coverage as the
+ * renderer's filter is. A split pixel's taps lie on two planes by their shares. Sets *applied when
+ * some tap reached the decal. */
+DC_INLINE DcSurface dc_filter_decal(__constant const DcFrame* frame, __global const DcDecal* d, DcTaps* taps,
+                                    int has_normal, float weight, __global const DcTexture* textures,
+                                    __global const float4* texels, __global const uint* occlusion_maps, DcSurface s,
+                                    const int variant, int* applied) {
     const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
-    if (!dc_filter_may_reach(d, plane)) return s;
-    const float3 su = dc_camera_to_local_vector(d, plane->du) * frame->filter_step;
-    const float3 sv = dc_camera_to_local_vector(d, plane->dv) * frame->filter_step;
-    DcSurface acc = dc_surface_add_scaled(s, s, -1.0f);
+    const bool split = taps->mode == DC_TAPS_SPLIT;
+    const bool reach0 = dc_filter_may_reach(d, &taps->plane), reach1 = split && dc_filter_may_reach(d, &taps->other);
+    if (!reach0 && !reach1 && !split) return s;
+    /* each plane's stratum in decal space */
+    const float3 su0 = dc_camera_to_local_vector(d, taps->plane.du) * frame->filter_step;
+    const float3 sv0 = dc_camera_to_local_vector(d, taps->plane.dv) * frame->filter_step;
+    const float3 su1 = split ? dc_camera_to_local_vector(d, taps->other.du) * frame->filter_step : su0;
+    const float3 sv1 = split ? dc_camera_to_local_vector(d, taps->other.dv) * frame->filter_step : sv0;
+    /* One plane: the taps' mean. Split: the pixel's mix plus each surface's change under its taps,
+     * blended into that surface's own material. */
+    DcSurface acc = split ? s : dc_surface_add_scaled(s, s, -1.0f);
+    DcSurface base[2] = {s, s}, side_acc[2];
+    float side_weight[2] = {0.0f, 0.0f};
+    if (split)
+        for (int side = 0; side < 2; ++side) {
+            base[side].albedo = taps->material[side].xyz;
+            base[side].roughness = taps->material[side].w;
+            base[side].metallic = taps->metallic[side];
+            base[side].normal = taps->normal[side];
+            side_acc[side] = dc_surface_add_scaled(base[side], base[side], -1.0f);
+        }
     int touched = 0;
-    for (int j = 0; j < frame->filter_taps; ++j)
+    for (int j = 0; j < (reach0 || reach1 ? frame->filter_taps : 0); ++j)
         for (int i = 0; i < frame->filter_taps; ++i) {
-            DcSurface out = s;
-            float3 pt;
+            const float u = frame->filter_offset[i], v = frame->filter_offset[j];
             const float w = frame->filter_weight[i] * frame->filter_weight[j];
-            if (dc_tap_point(rays, plane, frame->filter_offset[i], frame->filter_offset[j], &pt)) {
-                const DcLookup lk = dc_decal_lookup_at(d, pt, plane->n, has_normal, pt, pt, 1, 1, su, sv);
-                if (lk.fade > 0.0f &&
-                    (albedo_only || d->occlusion_map < 0 || dc_blast_reaches(d, occlusion_maps, pt, plane->n))) {
-                    out = dc_apply_decal(frame, d, lk, textures, texels, weight, plane->n, s, variant);
-                    touched = 1;
+            const float near_share = split ? dc_tap_share(taps, u, v) : 1.0f;
+            for (int side = 0; side < 2; ++side) {
+                const float share = side == 0 ? near_share : 1.0f - near_share;
+                if (!(share > 0.0f)) continue;
+                const DcTapPlane* plane = side == 0 ? &taps->plane : &taps->other;
+                DcSurface out = base[side];
+                float3 pt;
+                if ((side == 0 ? reach0 : reach1) && dc_tap_point(&taps->rays, plane, u, v, &pt)) {
+                    const DcLookup lk = dc_decal_lookup_at(d, pt, plane->n, has_normal, pt, pt, 1, 1,
+                                                           side == 0 ? su0 : su1, side == 0 ? sv0 : sv1);
+                    if (lk.fade > 0.0f &&
+                        (albedo_only || d->occlusion_map < 0 || dc_blast_reaches(d, occlusion_maps, pt, plane->n))) {
+                        out = dc_apply_decal(frame, d, lk, textures, texels, weight, plane->n, base[side], variant);
+                        touched = 1;
+                    }
+                }
+                acc = dc_surface_add_scaled(acc, out, w * share);
+                if (split) {
+                    acc = dc_surface_add_scaled(acc, base[side], -w * share);
+                    side_acc[side] = dc_surface_add_scaled(side_acc[side], out, w * share);
+                    side_weight[side] += w * share;
                 }
             }
-            acc = dc_surface_add_scaled(acc, out, w);
         }
+    if (!touched && split) {
+        /* neither surface's plane reaches the decal, yet it may hold the pixel's own point: the planes
+         * misjudged the surfaces there, and the point sample is the safer answer */
+        const DcLookup lk = dc_decal_lookup(d, taps->centre, taps->centre_normal, has_normal, taps->centre,
+                                            taps->centre, 0);
+        if (!(lk.fade > 0.0f) || (!albedo_only && d->occlusion_map >= 0 &&
+                                  !dc_blast_reaches(d, occlusion_maps, taps->centre, taps->centre_normal)))
+            return s;
+        *applied = 1;
+        return dc_apply_decal(frame, d, lk, textures, texels, weight, taps->centre_normal, s, variant);
+    }
     if (!touched) return s;
     if (acc.normal_changed && length(acc.normal) > 1e-6f) acc.normal = normalize(acc.normal);
+    if (split) /* each surface as this decal left it, for the next */
+        for (int side = 0; side < 2; ++side)
+            if (side_weight[side] > 0.0f) {
+                const DcSurface m = dc_surface_add_scaled(dc_surface_add_scaled(s, s, -1.0f), side_acc[side],
+                                                          1.0f / side_weight[side]);
+                taps->material[side] = (float4)(m.albedo, m.roughness);
+                taps->metallic[side] = m.metallic;
+                if (m.normal_changed && length(m.normal) > 1e-6f) taps->normal[side] = normalize(m.normal);
+            }
     *applied = 1;
     return acc;
 }
@@ -66,6 +116,7 @@ DC_INLINE DcSurface dc_filter_decal(__constant const DcFrame* frame, __global co
 inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float* depth_plane,
                            __global const float4* position_plane, __global float4* surface0,
                            __global float4* surface1, __global float4* surface2,
+                           __global const float4* original0, __global const float4* original1,
                            __global const DcDecal* decals, __global const DcTexture* textures,
                            __global const float4* texels, __global const int* tile_offsets,
                            __global const int* tile_decals, int binned, int list_capacity,
@@ -114,8 +165,9 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
         s.ao = in2.w;
         s.normal_changed = 0;
         int applied = 0;
-        const DcTaps taps = frame->filter_taps > 0 && has_normal
-                                ? dc_taps(frame, depth_plane, position_plane, x, y, p, normal)
+        DcTaps taps = frame->filter_taps > 0 && has_normal
+                                ? dc_taps(frame, depth_plane, position_plane, original0, original1, frame->has_normal, x,
+                                          y, p, normal)
                                 : dc_point_taps();
         for (int k = begin; k < end; ++k) {
             __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
@@ -124,15 +176,15 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                 if (d->mask >= 0)
                     weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
                 s = dc_apply_rest_decal(frame, d, rest_points, rest_frames, x, y, normal, has_normal,
-                                        taps.mode == DC_TAPS_PLANE, weight, textures, texels, s, variant, &applied);
+                                        taps.mode != DC_TAPS_POINT, weight, textures, texels, s, variant, &applied);
                 continue;
             }
-            if (taps.mode == DC_TAPS_PLANE) {
+            if (taps.mode != DC_TAPS_POINT) {
                 float weight = d->opacity;
                 if (d->mask >= 0)
                     weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
-                s = dc_filter_decal(frame, d, &taps.rays, &taps.plane, has_normal, weight, textures, texels,
-                                    occlusion_maps, s, variant, &applied);
+                s = dc_filter_decal(frame, d, &taps, has_normal, weight, textures, texels, occlusion_maps, s, variant,
+                                    &applied);
                 continue;
             }
             const DcLookup lk = dc_decal_lookup(d, p, normal, has_normal, p_dx, p_dy, footprint);
@@ -167,12 +219,14 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
 #define DC_SHADE_ARGUMENTS                                                                                       \
     __constant const DcFrame *frame, __global const float *depth_plane, __global const float4 *position_plane,  \
         __global float4 *surface0, __global float4 *surface1, __global float4 *surface2,                         \
+        __global const float4 *original0, __global const float4 *original1,                                      \
         __global const DcDecal *decals, __global const DcTexture *textures, __global const float4 *texels,       \
         __global const int *tile_offsets, __global const int *tile_decals, int binned, int list_capacity,       \
         __global const float *mask_weights, __global const uint *occlusion_maps, __global float4 *beauty,       \
         __global float4 *light, __global const float4 *rest_points, __global const float4 *rest_frames
 #define DC_SHADE_CALL(VARIANT)                                                                              \
-    dc_shade_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2, decals, textures, texels,   \
+    dc_shade_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2, original0, original1,       \
+                   decals, textures, texels,                                                                  \
                    tile_offsets, tile_decals, binned, list_capacity,                                          \
                    mask_weights, occlusion_maps, beauty, light, rest_points, rest_frames, VARIANT)
 

@@ -96,6 +96,9 @@ struct Compositor::State {
     StagedBuffer depth, position, masks;
     StagedBuffer beauty, light;  // the beauty update's planes (beauty_transfer.hpp)
     std::array<StagedBuffer, kSurfaceGroups> surface;
+    // Filtered frames: surface groups 0 and 1 as uploaded. Split silhouette pixels read their
+    // neighbours' albedo and normal, which the shading kernel changes in place meanwhile.
+    std::array<cl::Buffer, 2> original;
     cl::Buffer frame_buffer, decal_buffer, bounds, tile_depth, coarse_depth, coarse_counts, coarse_offsets,
         chunk_masks, chunk_starts, coarse_lists, tile_counts, tile_offsets, tile_decals, totals_buffer;
     std::size_t coarse_capacity = 0, list_capacity = 0;  // list entries (ints)
@@ -276,6 +279,10 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         for (int g = 0; g < kSurfaceGroups; ++g)
             s.surface[std::size_t(g)].reserve(context, queue, (surface.used[std::size_t(g)] ? pixels : 1) * sizeof(cl_float4),
                                               s.unified);
+        const bool filtered = params.filter_taps > 0;
+        for (int g = 0; g < 2; ++g)
+            reserve(context, s.original[std::size_t(g)],
+                    (filtered && surface.used[std::size_t(g)] ? pixels : 1) * sizeof(cl_float4));
         s.masks.reserve(context, queue, std::max<std::size_t>(s.mask_count * pixels, 1) * sizeof(float), s.unified);
         const std::size_t light_terms = beauty ? beauty->light.size() : 0;
         s.beauty.reserve(context, queue, (beauty ? pixels : 1) * sizeof(cl_float4), s.unified);
@@ -422,9 +429,14 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                                          cl::NDRange(roundUp(std::size_t(frame.width), DC_TILE_SIZE),
                                                      roundUp(std::size_t(frame.height), DC_TILE_SIZE)),
                                          cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE));
+            for (int g = 0; g < 2; ++g)
+                if (filtered && surface.used[std::size_t(g)])
+                    queue.enqueueCopyBuffer(s.surface[std::size_t(g)].device(), s.original[std::size_t(g)], 0, 0,
+                                            pixels * sizeof(cl_float4));
             const cl::Event e_shade = shade(
                 shade_range,
                 s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(), s.surface[2].device(),
+                s.original[0], s.original[1],
                 s.decal_buffer, s.texture_table, s.texels, s.tile_offsets, s.tile_decals, cl_int(binned ? 1 : 0),
                 cl_int(s.list_capacity), s.masks.device(), occlusion_maps, s.beauty.device(), s.light.device(),
                 s.rest_pass.points, s.rest_pass.frames);

@@ -39,11 +39,12 @@ struct CompositorKernels {
         rest_lookup;
     // frame, binding, depth, position, surface group 1, vertices, triangles, rest points, rest frames
     cl::KernelFunctor<Buffer, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer> rest_frame;
-    // frame, depth, position, surface groups 0-2 (in place), decals, texture table, texels,
+    // frame, depth, position, surface groups 0-2 (in place), groups 0-1 as uploaded (filtered frames),
+    // decals, texture table, texels,
     // tile offsets, tile lists, binned, list capacity, mask weights, occlusion maps, beauty, light,
     // rest points, rest frames
     using Shade = cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
-                                    Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer>;
+                                    Buffer, Buffer, Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer>;
     std::array<Shade, 4> shade;  // by variant bits: DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT
 };
 
