@@ -42,7 +42,6 @@ typedef struct {
     float4 material[2];
     float metallic[2];
     float3 normal[2]; /* each surface's camera-space normal, as decals turn it */
-    float3 centre, centre_normal; /* the pixel's own point and normal */
 } DcTaps;
 
 /* The share of the tap at pixel offset (u, v) that lies on the split's nearer surface. */
@@ -157,7 +156,7 @@ inline float3 dc_clean_normal(__constant const DcFrame* f, __global const float*
 inline void dc_split_silhouette(__constant const DcFrame* f, __global const float* depth_plane,
                                 __global const float4* position_plane, __global const float4* original0,
                                 __global const float4* original1, int has_normal, int x, int y, float3 p,
-                                float3 n, DcTaps* t) {
+                                DcTaps* t) {
     const float z = -p.z;
     bool jump = false;
     for (int k = 0; k < 4; ++k) {
@@ -242,8 +241,6 @@ inline void dc_split_silhouette(__constant const DcFrame* f, __global const floa
     s.metallic[1] = has_group1 ? original1[jf].w : 0.0f;
     s.normal[0] = s.plane.n;
     s.normal[1] = s.other.n;
-    s.centre = p;
-    s.centre_normal = n;
     s.mode = DC_TAPS_SPLIT;
     *t = s;
 }
@@ -273,7 +270,7 @@ inline DcTaps dc_taps(__constant const DcFrame* f, __global const float* depth_p
     t.rays.dir_u = d1 - t.rays.dir;
     t.rays.dir_v = d2 - t.rays.dir;
     if (dc_tap_plane(f, &t.rays, p, n, &t.plane)) t.mode = DC_TAPS_PLANE;
-    dc_split_silhouette(f, depth_plane, position_plane, original0, original1, has_normal, x, y, p, n, &t);
+    dc_split_silhouette(f, depth_plane, position_plane, original0, original1, has_normal, x, y, p, &t);
     return t;
 }
 

@@ -37,7 +37,7 @@ DC_INLINE DcSurface dc_filter_decal(__constant const DcFrame* frame, __global co
     const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
     const bool split = taps->mode == DC_TAPS_SPLIT;
     const bool reach0 = dc_filter_may_reach(d, &taps->plane), reach1 = split && dc_filter_may_reach(d, &taps->other);
-    if (!reach0 && !reach1 && !split) return s;
+    if (!reach0 && !reach1) return s;
     /* each plane's stratum in decal space */
     const float3 su0 = dc_camera_to_local_vector(d, taps->plane.du) * frame->filter_step;
     const float3 sv0 = dc_camera_to_local_vector(d, taps->plane.dv) * frame->filter_step;
@@ -57,7 +57,7 @@ DC_INLINE DcSurface dc_filter_decal(__constant const DcFrame* frame, __global co
             side_acc[side] = dc_surface_add_scaled(base[side], base[side], -1.0f);
         }
     int touched = 0;
-    for (int j = 0; j < (reach0 || reach1 ? frame->filter_taps : 0); ++j)
+    for (int j = 0; j < frame->filter_taps; ++j)
         for (int i = 0; i < frame->filter_taps; ++i) {
             const float u = frame->filter_offset[i], v = frame->filter_offset[j];
             const float w = frame->filter_weight[i] * frame->filter_weight[j];
@@ -85,17 +85,6 @@ DC_INLINE DcSurface dc_filter_decal(__constant const DcFrame* frame, __global co
                 }
             }
         }
-    if (!touched && split) {
-        /* neither surface's plane reaches the decal, yet it may hold the pixel's own point: the planes
-         * misjudged the surfaces there, and the point sample is the safer answer */
-        const DcLookup lk = dc_decal_lookup(d, taps->centre, taps->centre_normal, has_normal, taps->centre,
-                                            taps->centre, 0);
-        if (!(lk.fade > 0.0f) || (!albedo_only && d->occlusion_map >= 0 &&
-                                  !dc_blast_reaches(d, occlusion_maps, taps->centre, taps->centre_normal)))
-            return s;
-        *applied = 1;
-        return dc_apply_decal(frame, d, lk, textures, texels, weight, taps->centre_normal, s, variant);
-    }
     if (!touched) return s;
     if (acc.normal_changed && length(acc.normal) > 1e-6f) acc.normal = normalize(acc.normal);
     if (split) /* each surface as this decal left it, for the next */

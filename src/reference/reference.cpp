@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "reference/decal_hit.hpp"
+#include "reference/tap_plane.hpp"
 #include "reference/occlusion.hpp"
 #include "reference/rest_pose.hpp"
 
@@ -75,8 +76,6 @@ std::optional<glm::dvec3> pixelCameraPoint(const GBuffer& f, const Camera& camer
     return p;
 }
 
-namespace {
-
 // Normal from neighbouring points (camera space), per axis from the neighbour nearer in depth;
 // `tie` is set when both neighbours are about as near, so float rounding may pick either.
 glm::dvec3 normalFromDepth(const GBuffer& f, const Camera& camera, int x, int y, const glm::dvec3& p, bool& tie) {
@@ -110,8 +109,6 @@ glm::dvec3 normalFromDepth(const GBuffer& f, const Camera& camera, int x, int y,
     n = glm::normalize(n);
     return glm::dot(n, towards_camera) < 0.0 ? -n : n;
 }
-
-}  // namespace
 
 std::optional<glm::dvec3> pixelWorldPoint(const GBuffer& frame, const Camera& camera, int x, int y) {
     auto p = pixelCameraPoint(frame, camera, x, y);
@@ -497,9 +494,6 @@ glm::dvec4 hitTexel(const DecalHit& hit, const Decal& decal, const Texture2D& t,
     return glm::dvec4(0.0);
 }
 
-
-namespace {
-
 // Where the ray through fractional pixel position (px, py) meets the plane through P with normal
 // n (world space); nullopt when it runs parallel or meets it behind the camera.
 std::optional<glm::dvec3> rayOnPlane(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection,
@@ -518,6 +512,8 @@ std::optional<glm::dvec3> rayOnPlane(const GBuffer& f, const Camera& camera, con
     return origin + dir * t;
 }
 
+namespace {
+
 // The neighbours' rays (x+1, y) and (x, y+1) against the plane through P with normal n, in world space.
 Footprint pixelFootprint(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection, int x, int y,
                          const glm::dvec3& P, const glm::dvec3& n) {
@@ -529,22 +525,17 @@ Footprint pixelFootprint(const GBuffer& f, const Camera& camera, const glm::dmat
     return fp;
 }
 
-// The pixel filter's footprint on pixel (x, y)'s tangent plane (docs/pixel-filter.md), or
-// invalid where the filter is not integrated: beside background (a 4-neighbour without a point)
-// and where a footprint corner strays more than 4 % in view depth (grazing). Those pixels are
-// point-sampled; silhouettes and creases integrate over their own (averaged) plane.
-struct TapPlane {
-    bool valid = false;
-    bool ambiguous = false;  // the grazing test within rounding of its threshold
-    glm::dvec3 du{0.0}, dv{0.0};  // world step per pixel offset at the centre
-};
+}  // namespace
 
 TapPlane tapPlane(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection, int x, int y,
                   const glm::dvec3& P, const glm::dvec3& n) {
     TapPlane tp;
     for (int k = 0; k < 4; ++k) {
         const int nx = x + (k == 0) - (k == 1), ny = y + (k == 2) - (k == 3);
-        if (nx >= 0 && ny >= 0 && nx < f.width && ny < f.height && !pixelWorldPoint(f, camera, nx, ny)) return tp;
+        if (nx >= 0 && ny >= 0 && nx < f.width && ny < f.height && !pixelWorldPoint(f, camera, nx, ny)) {
+            tp.beside_background = true;
+            return tp;
+        }
     }
     const auto a = rayOnPlane(f, camera, inverse_projection, x + 1.0, y, P, n);
     const auto b = rayOnPlane(f, camera, inverse_projection, x, y + 1.0, P, n);
@@ -563,6 +554,8 @@ TapPlane tapPlane(const GBuffer& f, const Camera& camera, const glm::dmat4& inve
     tp.valid = true;
     return tp;
 }
+
+namespace {
 
 // The material planes a decal may change, as reference::shade works on them.
 constexpr Attribute kTargetAttributes[kDecalTargets] = {Attribute::Albedo,   Attribute::Normal,
@@ -647,9 +640,14 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
             Surface surface = surfaceAt(result.planes, i);
             if (normal) surface.normal = *normal;
             TapPlane taps;
+            SilhouetteSplit split;
             if (frame.pixel_filter.enabled() && normal) {
                 taps = tapPlane(frame, camera, inverse_projection, x, y, *p, *normal);
                 if (taps.ambiguous) result.ambiguous[i] = 1;
+                if (!taps.beside_background) {
+                    split = splitSilhouette(frame, camera, inverse_projection, quadrature, x, y);
+                    if (split.ambiguous) result.ambiguous[i] = 1;
+                }
             }
             for (std::size_t k = 0; k < scene.decals.size(); ++k) {
                 const Decal& decal = scene.decals[k];
@@ -709,7 +707,7 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                     // v dP/dy, dP from the nearer neighbour on the mesh on each axis.
                     const auto step_x = restStep(r, frame.width, frame.height, x, y, 1, 0);
                     const auto step_y = restStep(r, frame.width, frame.height, x, y, 0, 1);
-                    if (taps.valid && step_x && step_y) {
+                    if ((taps.valid || split.valid) && step_x && step_y) {
                         const glm::dmat3 to_local(world_to_local[k]);
                         const double h = quadrature.step;
                         const Stratum stratum{to_local * (*step_x * h), to_local * (*step_y * h)};
@@ -742,6 +740,73 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                     bool ambiguous = hit.ambiguous;
                     if (hit.fade > 0.0) surface = blendInRestSpace(hit, surface, ambiguous);
                     if (ambiguous) result.ambiguous[i] = 1;
+                    continue;
+                }
+                if (split.valid) {
+                    // each surface's taps blend the decal into that surface's material; the pixel's
+                    // mix takes their changes (kernels: dc_filter_decal)
+                    const glm::dmat3 to_local(world_to_local[k]);
+                    const double h = quadrature.step;
+                    Surface base[2], side_sum[2];
+                    double side_weight[2] = {0.0, 0.0};
+                    for (int sd = 0; sd < 2; ++sd) {
+                        base[sd] = surface;
+                        base[sd].albedo = split.material[sd].albedo;
+                        base[sd].roughness = split.material[sd].roughness;
+                        base[sd].metallic = split.material[sd].metallic;
+                        base[sd].normal = split.material[sd].normal;
+                        side_sum[sd].normal_changed = surface.normal_changed;
+                    }
+                    Surface sum = surface;
+                    bool touched = false;
+                    for (std::size_t j = 0; j < quadrature.offsets.size(); ++j)
+                        for (std::size_t t = 0; t < quadrature.offsets.size(); ++t) {
+                            const double u = quadrature.offsets[t], v = quadrature.offsets[j];
+                            const double w = quadrature.weights[t] * quadrature.weights[j];
+                            const double near_share = split.nearShare(u, v);
+                            for (int sd = 0; sd < 2; ++sd) {
+                                const double share = sd == 0 ? near_share : 1.0 - near_share;
+                                if (!(share > 0.0)) continue;
+                                Surface out = base[sd];
+                                const glm::dvec3& n = split.normal[sd];
+                                const auto tap =
+                                    rayOnPlane(frame, camera, inverse_projection, x + u, y + v, split.point[sd], n);
+                                if (tap) {
+                                    const Stratum stratum{to_local * (split.plane[sd].du * h),
+                                                          to_local * (split.plane[sd].dv * h)};
+                                    const DecalHit hit = hitDecal(decal, world_to_local[k], *tap, n, {}, slack, &stratum);
+                                    if (hit.ambiguous && !(hit.fade > 0.0)) result.ambiguous[i] = 1;
+                                    bool reaches = hit.fade > 0.0;
+                                    if (reaches && blast_maps[k]) {
+                                        const BlastVisibility vis = blast_maps[k]->test(*tap, n, slack);
+                                        if (vis.ambiguous) result.ambiguous[i] = 1;
+                                        reaches = vis.reaches;
+                                    }
+                                    if (reaches) {
+                                        bool ambiguous = hit.ambiguous;
+                                        applyDecal(decal, valuesAt(hit, ambiguous), hit.fade * weight, n, has, out);
+                                        if (ambiguous) result.ambiguous[i] = 1;
+                                        touched = true;
+                                    }
+                                }
+                                addWeighted(sum, out, w * share);
+                                addWeighted(sum, base[sd], -w * share);
+                                addWeighted(side_sum[sd], out, w * share);
+                                side_weight[sd] += w * share;
+                            }
+                        }
+                    if (!touched) continue;
+                    if (sum.normal_changed && glm::length(sum.normal) > 1e-6) sum.normal = glm::normalize(sum.normal);
+                    for (int sd = 0; sd < 2; ++sd) {
+                        if (!(side_weight[sd] > 0.0)) continue;
+                        Surface& m = split.material[sd];
+                        const Surface& acc = side_sum[sd];
+                        m.albedo = acc.albedo / side_weight[sd];
+                        m.roughness = acc.roughness / side_weight[sd];
+                        m.metallic = acc.metallic / side_weight[sd];
+                        if (acc.normal_changed && glm::length(acc.normal) > 1e-6) m.normal = glm::normalize(acc.normal);
+                    }
+                    surface = sum;
                     continue;
                 }
                 if (taps.valid) {

@@ -1,0 +1,187 @@
+// Silhouette pixels under a pixel filter, split between their two surfaces: the scalar twin of
+// kernels/pixel_filter.h dc_split_silhouette, in double precision, noting every decision that float
+// rounding could take the other way.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "reference/tap_plane.hpp"
+
+namespace decalcomp::reference {
+
+namespace {
+
+constexpr double kDepthJump = 0.02;     // DC_MIXED_DEPTH_JUMP
+constexpr double kCleanStep = 0.01;     // DC_CLEAN_DEPTH_STEP
+constexpr double kShareContrast = 0.01;  // DC_SHARE_CONTRAST
+constexpr int kWindow = 3;              // DC_SPLIT_WINDOW
+constexpr int kSteps = 16;              // DC_SPLIT_STEPS
+constexpr double kRounding = 1e-5;      // relative band in which float and double may disagree
+
+// `value > limit`, with `ambiguous` set when the two lie within rounding of each other.
+bool above(double value, double limit, double scale, bool& ambiguous) {
+    if (std::abs(value - limit) <= kRounding * scale) ambiguous = true;
+    return value > limit;
+}
+
+std::optional<double> viewDepth(const GBuffer& f, const Camera& camera, int x, int y) {
+    if (x < 0 || y < 0 || x >= f.width || y >= f.height) return std::nullopt;
+    const auto p = pixelCameraPoint(f, camera, x, y);
+    if (!p) return std::nullopt;
+    return -p->z;
+}
+
+// Every 4-neighbour a surface within kCleanStep of view depth z.
+bool cleanPixel(const GBuffer& f, const Camera& camera, int x, int y, double z, bool& ambiguous) {
+    for (int k = 0; k < 4; ++k) {
+        const int nx = x + (k == 0) - (k == 1), ny = y + (k == 2) - (k == 3);
+        if (nx < 0 || ny < 0 || nx >= f.width || ny >= f.height) continue;
+        const auto zn = viewDepth(f, camera, nx, ny);
+        if (!zn || above(std::abs(*zn - z), kCleanStep * z, z, ambiguous)) return false;
+    }
+    return true;
+}
+
+glm::dvec3 planeValue(const GBuffer& f, Attribute a, std::size_t i) {
+    if (!f.has(a)) return glm::dvec3(0.0);
+    const Plane& p = f.planes.at(a);
+    glm::dvec3 v(0.0);
+    for (int c = 0; c < std::min(3, p.components); ++c) v[c] = p.at(i, c);
+    return v;
+}
+
+// The file's normal decoded to world space, not normalised (a filtered normal is shorter than 1).
+glm::dvec3 worldNormalAsStored(const GBuffer& f, const Camera& camera, std::size_t i) {
+    glm::dvec3 n = planeValue(f, Attribute::Normal, i);
+    if (f.normal_encoding.packed) n = 2.0 * n - 1.0;
+    if (f.normal_encoding.space == NormalSpace::Camera) n = glm::transpose(glm::dmat3(camera.world_to_camera)) * n;
+    return n;
+}
+
+// The nearer surface's share of the pixel (kernels: dc_mixed_share): from the albedo where the two
+// surfaces' albedos differ enough, else from the normal; nullopt where neither tells them apart.
+std::optional<double> mixedShare(const GBuffer& f, const Camera& camera, std::size_t i, std::size_t in,
+                                 std::size_t jf, bool& ambiguous) {
+    const glm::dvec3 a = planeValue(f, Attribute::Albedo, i), an = planeValue(f, Attribute::Albedo, in),
+                     af = planeValue(f, Attribute::Albedo, jf);
+    const glm::dvec3 da = an - af;
+    if (above(glm::dot(da, da), kShareContrast, kShareContrast * 100.0, ambiguous))
+        return std::clamp(glm::dot(a - af, da) / glm::dot(da, da), 0.0, 1.0);
+    if (!f.has(Attribute::Normal)) return std::nullopt;
+    const glm::dvec3 n = worldNormalAsStored(f, camera, i), nn = worldNormalAsStored(f, camera, in),
+                     nf = worldNormalAsStored(f, camera, jf);
+    const glm::dvec3 dn = nn - nf;
+    if (!above(glm::dot(dn, dn), kShareContrast, kShareContrast * 100.0, ambiguous)) return std::nullopt;
+    return std::clamp(glm::dot(n - nf, dn) / glm::dot(dn, dn), 0.0, 1.0);
+}
+
+// The filter's weight on the nearer side of the line at c.
+double nearWeight(const SilhouetteSplit& s, const FilterQuadrature& q, double c) {
+    SilhouetteSplit at = s;
+    at.c = c;
+    double sum = 0.0;
+    for (std::size_t j = 0; j < q.offsets.size(); ++j)
+        for (std::size_t i = 0; i < q.offsets.size(); ++i)
+            sum += q.weights[i] * q.weights[j] * at.nearShare(q.offsets[i], q.offsets[j]);
+    return sum;
+}
+
+}  // namespace
+
+double SilhouetteSplit::nearShare(double u, double v) const {
+    return std::clamp((c - (dir.x * u + dir.y * v)) / width + 0.5, 0.0, 1.0);
+}
+
+SilhouetteSplit splitSilhouette(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection,
+                                const FilterQuadrature& quadrature, int x, int y) {
+    SilhouetteSplit split;
+    const auto own = viewDepth(f, camera, x, y);
+    if (!own) return split;
+    const double z = *own;
+    bool jump = false;
+    for (int k = 0; k < 4; ++k) {
+        const auto zn = viewDepth(f, camera, x + (k == 0) - (k == 1), y + (k == 2) - (k == 3));
+        if (zn && above(std::abs(*zn - z), kDepthJump * z, z, split.ambiguous)) jump = true;
+    }
+    if (!jump) return split;
+    // the window's clean pixels: their depth range, then the nearer and the farther half
+    const double radius = double(float(f.pixel_filter.radius()));
+    const int window = std::clamp(int(std::ceil(radius + 0.5)) + 1, 2, kWindow);
+    double z_min = std::numeric_limits<double>::max(), z_max = 0.0;
+    struct Side {
+        int x = 0, y = 0, d2 = 1 << 20;
+        glm::dvec2 sum{0.0};
+        double count = 0.0;
+    } side[2];
+    for (int pass = 0; pass < 2; ++pass) {
+        const double z_mid = 0.5 * (z_min + z_max);
+        for (int dy = -window; dy <= window; ++dy)
+            for (int dx = -window; dx <= window; ++dx) {
+                if (dx == 0 && dy == 0) continue;
+                const auto zq = viewDepth(f, camera, x + dx, y + dy);
+                if (!zq || !cleanPixel(f, camera, x + dx, y + dy, *zq, split.ambiguous)) continue;
+                if (pass == 0) {
+                    z_min = std::min(z_min, *zq);
+                    z_max = std::max(z_max, *zq);
+                    continue;
+                }
+                Side& s = side[above(*zq, z_mid, z, split.ambiguous) || *zq == z_mid ? 1 : 0];
+                s.sum += glm::dvec2(dx, dy);
+                s.count += 1.0;
+                if (dx * dx + dy * dy < s.d2) {
+                    s.d2 = dx * dx + dy * dy;
+                    s.x = x + dx;
+                    s.y = y + dy;
+                }
+            }
+        if (!above(z_max - z_min, kDepthJump * z, z, split.ambiguous)) return split;
+    }
+    glm::dvec2 dir = side[1].sum / side[1].count - side[0].sum / side[0].count;
+    if (!(glm::length(dir) > 0.25)) return split;
+    dir = glm::normalize(dir);
+    const std::size_t i = std::size_t(y) * f.width + x;
+    const std::size_t at[2] = {std::size_t(side[0].y) * f.width + side[0].x, std::size_t(side[1].y) * f.width + side[1].x};
+    const auto share = mixedShare(f, camera, i, at[0], at[1], split.ambiguous);
+    if (!share) return split;
+    for (int k = 0; k < 2; ++k) {
+        const glm::dvec3 P = *pixelWorldPoint(f, camera, side[k].x, side[k].y);
+        glm::dvec3 n;
+        if (f.has(Attribute::Normal)) {
+            n = glm::normalize(worldNormalAsStored(f, camera, at[k]));
+        } else {
+            bool tie = false;
+            const glm::dvec3 q = *pixelCameraPoint(f, camera, side[k].x, side[k].y);
+            const glm::dvec3 n_camera = normalFromDepth(f, camera, side[k].x, side[k].y, q, tie);
+            n = glm::normalize(glm::dvec3(glm::inverse(camera.world_to_camera) * glm::dvec4(n_camera, 0.0)));
+            if (tie) split.ambiguous = true;
+        }
+        const auto on_ray = rayOnPlane(f, camera, inverse_projection, x, y, P, n);
+        if (!on_ray) return split;
+        split.point[k] = *on_ray;
+        split.normal[k] = n;
+        split.plane[k] = tapPlane(f, camera, inverse_projection, x, y, *on_ray, n);
+        if (split.plane[k].ambiguous) split.ambiguous = true;
+        if (!split.plane[k].valid) return split;
+        Surface& m = split.material[k];
+        m.albedo = planeValue(f, Attribute::Albedo, at[k]);
+        m.roughness = planeValue(f, Attribute::Roughness, at[k]).x;
+        m.metallic = planeValue(f, Attribute::Metallic, at[k]).x;
+        m.normal = n;
+    }
+    // the line where the filter's weight on the nearer side is the nearer surface's share, placed
+    // by the kernel's bisection
+    split.dir = dir;
+    split.width = quadrature.step * (std::abs(dir.x) + std::abs(dir.y));
+    const double reach = radius + split.width;
+    const double total = nearWeight(split, quadrature, reach);
+    double lo = -reach, hi = reach;
+    for (int step = 0; step < kSteps; ++step) {
+        const double c = 0.5 * (lo + hi);
+        (nearWeight(split, quadrature, c) < *share * total ? lo : hi) = c;
+    }
+    split.c = 0.5 * (lo + hi);
+    split.valid = true;
+    return split;
+}
+
+}  // namespace decalcomp::reference

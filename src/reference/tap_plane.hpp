@@ -1,0 +1,53 @@
+#pragma once
+// The pixel filter's geometry in the reference (reference.cpp, silhouette_split.cpp): the taps'
+// planes and where pixel rays meet them, in world space, double precision.
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "decalcomp/gbuffer.hpp"
+#include "decalcomp/pixel_filter.hpp"
+#include "decalcomp/reference.hpp"
+
+namespace decalcomp::reference {
+
+// Where the ray through fractional pixel position (px, py) meets the plane through P with normal
+// n (world space); nullopt when it runs parallel or meets it behind the camera.
+std::optional<glm::dvec3> rayOnPlane(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection,
+                                     double px, double py, const glm::dvec3& P, const glm::dvec3& n);
+
+// Camera-space normal from neighbouring points, per axis from the neighbour nearer in depth; `tie`
+// is set when both neighbours are about as near, so float rounding may pick either.
+glm::dvec3 normalFromDepth(const GBuffer& f, const Camera& camera, int x, int y, const glm::dvec3& p, bool& tie);
+
+// The pixel filter's footprint on pixel (x, y)'s tangent plane through P (on the pixel's ray) with
+// normal n (docs/pixel-filter.md), or invalid where the filter is not integrated over it: beside
+// background (a 4-neighbour without a point) and where a footprint corner strays more than 4 % in
+// view depth (grazing).
+struct TapPlane {
+    bool valid = false;
+    bool beside_background = false;
+    bool ambiguous = false;       // the grazing test within rounding of its threshold
+    glm::dvec3 du{0.0}, dv{0.0};  // world step per pixel offset at the centre
+};
+TapPlane tapPlane(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection, int x, int y,
+                  const glm::dvec3& P, const glm::dvec3& n);
+
+// A silhouette pixel's taps split between its two surfaces (docs/pixel-filter.md "Silhouettes",
+// kernels/pixel_filter.h dc_split_silhouette).
+struct SilhouetteSplit {
+    bool valid = false;
+    bool ambiguous = false;  // a decision within rounding of its threshold
+    glm::dvec3 point[2];     // [0] the nearer surface, [1] the farther: plane point on the pixel's ray
+    glm::dvec3 normal[2];    // and the plane's world normal
+    TapPlane plane[2];
+    Surface material[2];     // each surface's material: its clean pixel's, then as decals left it
+    glm::dvec2 dir{0.0};
+    double c = 0.0, width = 1.0;
+    // the share of the tap at pixel offset (u, v) on the nearer surface
+    double nearShare(double u, double v) const;
+};
+SilhouetteSplit splitSilhouette(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection,
+                                const FilterQuadrature& quadrature, int x, int y);
+
+}  // namespace decalcomp::reference
