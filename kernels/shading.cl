@@ -26,76 +26,122 @@ inline DcTaps dc_point_taps(void) {
     return t;
 }
 
-/* Decal d integrated over the pixel filter's taps (docs/pixel-filter.md): each tap blends the decal
- * into s as it stands, and the result is their weighted mean, linear in the decal's coverage as the
- * renderer's filter is. A split pixel's taps lie on two planes by their shares. Sets *applied when
- * some tap reached the decal. */
-DC_INLINE DcSurface dc_filter_decal(__constant const DcFrame* frame, __global const DcDecal* d, DcTaps* taps,
-                                    int has_normal, float weight, __global const DcTexture* textures,
-                                    __global const float4* texels, __global const uint* occlusion_maps, DcSurface s,
-                                    const int variant, int* applied) {
+/* Decal d integrated over the pixel filter's taps on `plane` (docs/pixel-filter.md): each tap
+ * blends the decal into s as it stands, and the result is their weighted mean, linear in the
+ * decal's coverage as the renderer's filter is. Sets *applied when some tap reached the decal. */
+DC_INLINE DcSurface dc_filter_decal(__constant const DcFrame* frame, __global const DcDecal* d, const DcTapRays* rays,
+                                    const DcTapPlane* plane, int has_normal, float weight,
+                                    __global const DcTexture* textures, __global const float4* texels,
+                                    __global const uint* occlusion_maps, DcSurface s, const int variant,
+                                    int* applied) {
     const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
-    const bool split = taps->mode == DC_TAPS_SPLIT;
-    const bool reach0 = dc_filter_may_reach(d, &taps->plane), reach1 = split && dc_filter_may_reach(d, &taps->other);
-    if (!reach0 && !reach1) return s;
-    /* each plane's stratum in decal space */
-    const float3 su0 = dc_camera_to_local_vector(d, taps->plane.du) * frame->filter_step;
-    const float3 sv0 = dc_camera_to_local_vector(d, taps->plane.dv) * frame->filter_step;
-    const float3 su1 = split ? dc_camera_to_local_vector(d, taps->other.du) * frame->filter_step : su0;
-    const float3 sv1 = split ? dc_camera_to_local_vector(d, taps->other.dv) * frame->filter_step : sv0;
-    /* One plane: the taps' mean. Split: the pixel's mix plus each surface's change under its taps,
-     * blended into that surface's own material. */
-    DcSurface acc = split ? s : dc_surface_add_scaled(s, s, -1.0f);
-    DcSurface base[2] = {s, s}, side_acc[2];
-    float side_weight[2] = {0.0f, 0.0f};
-    if (split)
-        for (int side = 0; side < 2; ++side) {
-            base[side].albedo = taps->material[side].xyz;
-            base[side].roughness = taps->material[side].w;
-            base[side].metallic = taps->metallic[side];
-            base[side].normal = taps->normal[side];
-            side_acc[side] = dc_surface_add_scaled(base[side], base[side], -1.0f);
-        }
+    if (!dc_filter_may_reach(d, plane)) return s;
+    const float3 su = dc_camera_to_local_vector(d, plane->du) * frame->filter_step;
+    const float3 sv = dc_camera_to_local_vector(d, plane->dv) * frame->filter_step;
+    DcSurface acc = dc_surface_add_scaled(s, s, -1.0f);
     int touched = 0;
     for (int j = 0; j < frame->filter_taps; ++j)
         for (int i = 0; i < frame->filter_taps; ++i) {
-            const float u = frame->filter_offset[i], v = frame->filter_offset[j];
+            DcSurface out = s;
+            float3 pt;
             const float w = frame->filter_weight[i] * frame->filter_weight[j];
-            const float near_share = split ? dc_tap_share(taps, u, v) : 1.0f;
-            for (int side = 0; side < 2; ++side) {
-                const float share = side == 0 ? near_share : 1.0f - near_share;
-                if (!(share > 0.0f)) continue;
-                const DcTapPlane* plane = side == 0 ? &taps->plane : &taps->other;
-                DcSurface out = base[side];
-                float3 pt;
-                if ((side == 0 ? reach0 : reach1) && dc_tap_point(&taps->rays, plane, u, v, &pt)) {
-                    const DcLookup lk = dc_decal_lookup_at(d, pt, plane->n, has_normal, pt, pt, 1, 1,
-                                                           side == 0 ? su0 : su1, side == 0 ? sv0 : sv1);
-                    if (lk.fade > 0.0f &&
-                        (albedo_only || d->occlusion_map < 0 || dc_blast_reaches(d, occlusion_maps, pt, plane->n))) {
-                        out = dc_apply_decal(frame, d, lk, textures, texels, weight, plane->n, base[side], variant);
-                        touched = 1;
-                    }
-                }
-                acc = dc_surface_add_scaled(acc, out, w * share);
-                if (split) {
-                    acc = dc_surface_add_scaled(acc, base[side], -w * share);
-                    side_acc[side] = dc_surface_add_scaled(side_acc[side], out, w * share);
-                    side_weight[side] += w * share;
+            if (dc_tap_point(rays, plane, frame->filter_offset[i], frame->filter_offset[j], &pt)) {
+                const DcLookup lk = dc_decal_lookup_at(d, pt, plane->n, has_normal, pt, pt, 1, 1, su, sv);
+                if (lk.fade > 0.0f &&
+                    (albedo_only || d->occlusion_map < 0 || dc_blast_reaches(d, occlusion_maps, pt, plane->n))) {
+                    out = dc_apply_decal(frame, d, lk, textures, texels, weight, plane->n, s, variant);
+                    touched = 1;
                 }
             }
+            acc = dc_surface_add_scaled(acc, out, w);
         }
     if (!touched) return s;
     if (acc.normal_changed && length(acc.normal) > 1e-6f) acc.normal = normalize(acc.normal);
-    if (split) /* each surface as this decal left it, for the next */
-        for (int side = 0; side < 2; ++side)
-            if (side_weight[side] > 0.0f) {
-                const DcSurface m = dc_surface_add_scaled(dc_surface_add_scaled(s, s, -1.0f), side_acc[side],
-                                                          1.0f / side_weight[side]);
-                taps->material[side] = (float4)(m.albedo, m.roughness);
-                taps->metallic[side] = m.metallic;
-                if (m.normal_changed && length(m.normal) > 1e-6f) taps->normal[side] = normalize(m.normal);
+    *applied = 1;
+    return acc;
+}
+
+/* One surface of a split pixel (docs/pixel-filter.md "Silhouettes"): decal d over the taps on
+ * `plane`, each for its share on this side (`far_side`: 1 - the near share), blended into the
+ * surface's material `base`. Returns the weighted sum of the taps' results and their total weight
+ * in *total; sets *touched when some tap reached the decal. */
+DC_INLINE DcSurface dc_filter_split_side(__constant const DcFrame* frame, __global const DcDecal* d,
+                                         const DcTaps* taps, const DcTapPlane* plane, const int far_side,
+                                         DcSurface base, int has_normal, float weight,
+                                         __global const DcTexture* textures, __global const float4* texels,
+                                         __global const uint* occlusion_maps, const int variant, float* total,
+                                         int* touched) {
+    const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
+    const float3 su = dc_camera_to_local_vector(d, plane->du) * frame->filter_step;
+    const float3 sv = dc_camera_to_local_vector(d, plane->dv) * frame->filter_step;
+    DcSurface sum = dc_surface_add_scaled(base, base, -1.0f);
+    for (int j = 0; j < frame->filter_taps; ++j)
+        for (int i = 0; i < frame->filter_taps; ++i) {
+            const float u = frame->filter_offset[i], v = frame->filter_offset[j];
+            const float near = dc_tap_share(taps, u, v);
+            const float share = far_side ? 1.0f - near : near;
+            if (!(share > 0.0f)) continue;
+            const float w = frame->filter_weight[i] * frame->filter_weight[j] * share;
+            DcSurface out = base;
+            float3 pt;
+            if (dc_tap_point(&taps->rays, plane, u, v, &pt)) {
+                const DcLookup lk = dc_decal_lookup_at(d, pt, plane->n, has_normal, pt, pt, 1, 1, su, sv);
+                if (lk.fade > 0.0f &&
+                    (albedo_only || d->occlusion_map < 0 || dc_blast_reaches(d, occlusion_maps, pt, plane->n))) {
+                    out = dc_apply_decal(frame, d, lk, textures, texels, weight, plane->n, base, variant);
+                    *touched = 1;
+                }
             }
+            sum = dc_surface_add_scaled(sum, out, w);
+            *total += w;
+        }
+    return sum;
+}
+
+/* The material of one side of a split pixel, as DcTaps keeps it. */
+inline DcSurface dc_split_material(const DcTaps* taps, int side, DcSurface s) {
+    s.albedo = taps->material[side].xyz;
+    s.roughness = taps->material[side].w;
+    s.metallic = taps->metallic[side];
+    s.normal = taps->normal[side];
+    return s;
+}
+
+/* Decal d at a split pixel: each surface's taps blend it into that surface's material; the pixel
+ * keeps its mix and adds each surface's change, weighted by its taps. Each surface's material
+ * then becomes the mean of its taps' results, for the next decal. */
+DC_INLINE DcSurface dc_filter_decal_split(__constant const DcFrame* frame, __global const DcDecal* d, DcTaps* taps,
+                                          int has_normal, float weight, __global const DcTexture* textures,
+                                          __global const float4* texels, __global const uint* occlusion_maps,
+                                          DcSurface s, const int variant, int* applied) {
+    const bool reach_near = dc_filter_may_reach(d, &taps->plane), reach_far = dc_filter_may_reach(d, &taps->other);
+    if (!reach_near && !reach_far) return s;
+    const DcSurface base_near = dc_split_material(taps, 0, s), base_far = dc_split_material(taps, 1, s);
+    float total_near = 0.0f, total_far = 0.0f;
+    int touched = 0;
+    const DcSurface sum_near =
+        reach_near ? dc_filter_split_side(frame, d, taps, &taps->plane, 0, base_near, has_normal, weight, textures,
+                                          texels, occlusion_maps, variant, &total_near, &touched)
+                   : base_near;
+    const DcSurface sum_far =
+        reach_far ? dc_filter_split_side(frame, d, taps, &taps->other, 1, base_far, has_normal, weight, textures,
+                                         texels, occlusion_maps, variant, &total_far, &touched)
+                  : base_far;
+    if (!touched) return s;
+    /* s + sum (w share (out - base)) over both sides */
+    DcSurface acc = s;
+    if (total_near > 0.0f) acc = dc_surface_add_scaled(dc_surface_add_scaled(acc, sum_near, 1.0f), base_near, -total_near);
+    if (total_far > 0.0f) acc = dc_surface_add_scaled(dc_surface_add_scaled(acc, sum_far, 1.0f), base_far, -total_far);
+    if (acc.normal_changed && length(acc.normal) > 1e-6f) acc.normal = normalize(acc.normal);
+    for (int side = 0; side < 2; ++side) {
+        const float total = side == 0 ? total_near : total_far;
+        if (!(total > 0.0f)) continue;
+        const DcSurface m = dc_surface_add_scaled(dc_surface_add_scaled(s, s, -1.0f), side == 0 ? sum_near : sum_far,
+                                                  1.0f / total);
+        taps->material[side] = (float4)(m.albedo, m.roughness);
+        taps->metallic[side] = m.metallic;
+        if (m.normal_changed && length(m.normal) > 1e-6f) taps->normal[side] = normalize(m.normal);
+    }
     *applied = 1;
     return acc;
 }
@@ -172,8 +218,12 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                 float weight = d->opacity;
                 if (d->mask >= 0)
                     weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
-                s = dc_filter_decal(frame, d, &taps, has_normal, weight, textures, texels, occlusion_maps, s, variant,
-                                    &applied);
+                if (taps.mode == DC_TAPS_SPLIT)
+                    s = dc_filter_decal_split(frame, d, &taps, has_normal, weight, textures, texels, occlusion_maps, s,
+                                              variant, &applied);
+                else
+                    s = dc_filter_decal(frame, d, &taps.rays, &taps.plane, has_normal, weight, textures, texels,
+                                        occlusion_maps, s, variant, &applied);
                 continue;
             }
             const DcLookup lk = dc_decal_lookup(d, p, normal, has_normal, p_dx, p_dy, footprint);
