@@ -126,7 +126,7 @@ void expectBeatsPointSampling(const OwnRender& render) {
 // Mixed pixels worse than point-sampled by more than the truth's own noise: a few creases (the cube's
 // edge between its top and front faces under the glyph decal, x 115, y 96, whose averaged plane lies
 // between the faces) and silhouettes where a third surface shows between the two that the split
-// takes (box: x 78, y 157, the torus' side seen edge-on, worse by 0.40). Their count may not grow.
+// takes (box: x 78, y 157, a face seen edge-on between them, worse by 0.40). Their count may not grow.
 void expectFewMixedPixelsWorse(const OwnRender& render) {
     const Measured& m = measure(render);
     ::testing::Test::RecordProperty("mixed_worse", std::to_string(m.mixed.worse));
