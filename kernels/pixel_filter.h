@@ -136,9 +136,11 @@ inline float dc_split_weight(__constant const DcFrame* f, DcTaps* t, float c) {
 inline float dc_mixed_share(float3 albedo, float3 albedo_near, float3 albedo_far, float3 normal, float3 normal_near,
                             float3 normal_far, int has_normal) {
     const float3 da = albedo_near - albedo_far, dn = normal_near - normal_far;
-    if (dot(da, da) > DC_SHARE_CONTRAST) return clamp(dot(albedo - albedo_far, da) / dot(da, da), 0.0f, 1.0f);
-    if (has_normal && dot(dn, dn) > DC_SHARE_CONTRAST) return clamp(dot(normal - normal_far, dn) / dot(dn, dn), 0.0f, 1.0f);
-    return -1.0f;
+    float w = -1.0f;
+    if (dot(da, da) > DC_SHARE_CONTRAST) w = dot(albedo - albedo_far, da) / dot(da, da);
+    else if (has_normal && dot(dn, dn) > DC_SHARE_CONTRAST) w = dot(normal - normal_far, dn) / dot(dn, dn);
+    else return -1.0f;
+    return isfinite(w) ? clamp(w, 0.0f, 1.0f) : -1.0f; /* a NaN or infinite pass: no split */
 }
 
 /* A clean pixel's camera-space normal: its normal pass, else from its depths. */

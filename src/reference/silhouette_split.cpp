@@ -65,14 +65,17 @@ std::optional<double> mixedShare(const GBuffer& f, const Camera& camera, std::si
     const glm::dvec3 a = planeValue(f, Attribute::Albedo, i), an = planeValue(f, Attribute::Albedo, in),
                      af = planeValue(f, Attribute::Albedo, jf);
     const glm::dvec3 da = an - af;
+    auto clamped = [](double w) {
+        return std::isfinite(w) ? std::optional<double>(std::clamp(w, 0.0, 1.0)) : std::nullopt;
+    };
     if (above(glm::dot(da, da), kShareContrast, kShareContrast * 100.0, ambiguous))
-        return std::clamp(glm::dot(a - af, da) / glm::dot(da, da), 0.0, 1.0);
+        return clamped(glm::dot(a - af, da) / glm::dot(da, da));
     if (!f.has(Attribute::Normal)) return std::nullopt;
     const glm::dvec3 n = worldNormalAsStored(f, camera, i), nn = worldNormalAsStored(f, camera, in),
                      nf = worldNormalAsStored(f, camera, jf);
     const glm::dvec3 dn = nn - nf;
     if (!above(glm::dot(dn, dn), kShareContrast, kShareContrast * 100.0, ambiguous)) return std::nullopt;
-    return std::clamp(glm::dot(n - nf, dn) / glm::dot(dn, dn), 0.0, 1.0);
+    return clamped(glm::dot(n - nf, dn) / glm::dot(dn, dn));
 }
 
 // The filter's weight on the nearer side of the line at c.
