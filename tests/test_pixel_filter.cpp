@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <map>
 #include <cstring>
+#include <map>
 
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/error.hpp"
