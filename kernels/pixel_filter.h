@@ -98,7 +98,7 @@ inline bool dc_tap_plane(__constant const DcFrame* f, const DcTapRays* rays, flo
  * pixel of each surface within the window, split by a line across the direction from the nearer
  * surface's clean pixels to the farther's. The line sits where the nearer surface's share of the
  * filter matches the share that its albedo and normal have in the pixel's filtered ones. */
-#define DC_CLEAN_DEPTH_STEP 0.01f
+#define DC_CLEAN_DEPTH_STEP 0.015f
 /* the window reaches at most this many pixels from the pixel (binning adds one tile around each) */
 #define DC_SPLIT_WINDOW 3
 /* bisection steps placing the split line: 2^-16 of the footprint */

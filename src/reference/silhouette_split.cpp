@@ -12,7 +12,7 @@ namespace decalcomp::reference {
 namespace {
 
 constexpr double kDepthJump = 0.02;     // DC_MIXED_DEPTH_JUMP
-constexpr double kCleanStep = 0.01;     // DC_CLEAN_DEPTH_STEP
+constexpr double kCleanStep = 0.015;    // DC_CLEAN_DEPTH_STEP
 constexpr double kShareContrast = 0.01;  // DC_SHARE_CONTRAST
 constexpr int kWindow = 3;              // DC_SPLIT_WINDOW
 constexpr int kSteps = 16;              // DC_SPLIT_STEPS
