@@ -598,6 +598,8 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
         return d.angle_fade_deg[1] > 0.0 || d.filter == TextureFilter::Mip || d.occlusion.enabled;  // need normals
     }) || frame.pixel_filter.enabled();
     const FilterQuadrature quadrature = filterQuadrature(frame.pixel_filter);
+    const std::vector<double> view_depths =
+        frame.pixel_filter.enabled() ? viewDepths(frame, camera) : std::vector<double>{};
     std::vector<std::vector<Texture2D>> chains;
     for (const Texture2D& t : scene.textures) chains.push_back(mipChain(t));
     const glm::dmat4 inverse_projection = glm::inverse(camera.projection);
@@ -645,7 +647,7 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                 taps = tapPlane(frame, camera, inverse_projection, x, y, *p, *normal);
                 if (taps.ambiguous) result.ambiguous[i] = 1;
                 if (!taps.beside_background) {
-                    split = splitSilhouette(frame, camera, inverse_projection, quadrature, x, y);
+                    split = splitSilhouette(frame, camera, inverse_projection, quadrature, view_depths, x, y);
                     if (split.ambiguous) result.ambiguous[i] = 1;
                 }
             }

@@ -24,19 +24,20 @@ bool above(double value, double limit, double scale, bool& ambiguous) {
     return value > limit;
 }
 
-std::optional<double> viewDepth(const GBuffer& f, const Camera& camera, int x, int y) {
+// The view depth of pixel (x, y) from the frame's map; nullopt off the frame or without a point.
+std::optional<double> viewDepth(const GBuffer& f, const std::vector<double>& depths, int x, int y) {
     if (x < 0 || y < 0 || x >= f.width || y >= f.height) return std::nullopt;
-    const auto p = pixelCameraPoint(f, camera, x, y);
-    if (!p) return std::nullopt;
-    return -p->z;
+    const double z = depths[std::size_t(y) * f.width + x];
+    if (std::isnan(z)) return std::nullopt;
+    return z;
 }
 
 // Every 4-neighbour a surface within kCleanStep of view depth z.
-bool cleanPixel(const GBuffer& f, const Camera& camera, int x, int y, double z, bool& ambiguous) {
+bool cleanPixel(const GBuffer& f, const std::vector<double>& depths, int x, int y, double z, bool& ambiguous) {
     for (int k = 0; k < 4; ++k) {
         const int nx = x + (k == 0) - (k == 1), ny = y + (k == 2) - (k == 3);
         if (nx < 0 || ny < 0 || nx >= f.width || ny >= f.height) continue;
-        const auto zn = viewDepth(f, camera, nx, ny);
+        const auto zn = viewDepth(f, depths, nx, ny);
         if (!zn || above(std::abs(*zn - z), kCleanStep * z, z, ambiguous)) return false;
     }
     return true;
@@ -95,15 +96,24 @@ double SilhouetteSplit::nearShare(double u, double v) const {
     return std::clamp((c - (dir.x * u + dir.y * v)) / width + 0.5, 0.0, 1.0);
 }
 
+std::vector<double> viewDepths(const GBuffer& f, const Camera& camera) {
+    std::vector<double> depths(f.pixelCount(), std::nan(""));
+    for (int y = 0; y < f.height; ++y)
+        for (int x = 0; x < f.width; ++x)
+            if (const auto p = pixelCameraPoint(f, camera, x, y)) depths[std::size_t(y) * f.width + x] = -p->z;
+    return depths;
+}
+
 SilhouetteSplit splitSilhouette(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection,
-                                const FilterQuadrature& quadrature, int x, int y) {
+                                const FilterQuadrature& quadrature, const std::vector<double>& depths, int x,
+                                int y) {
     SilhouetteSplit split;
-    const auto own = viewDepth(f, camera, x, y);
+    const auto own = viewDepth(f, depths, x, y);
     if (!own) return split;
     const double z = *own;
     bool jump = false;
     for (int k = 0; k < 4; ++k) {
-        const auto zn = viewDepth(f, camera, x + (k == 0) - (k == 1), y + (k == 2) - (k == 3));
+        const auto zn = viewDepth(f, depths, x + (k == 0) - (k == 1), y + (k == 2) - (k == 3));
         if (zn && above(std::abs(*zn - z), kDepthJump * z, z, split.ambiguous)) jump = true;
     }
     if (!jump) return split;
@@ -121,8 +131,8 @@ SilhouetteSplit splitSilhouette(const GBuffer& f, const Camera& camera, const gl
         for (int dy = -window; dy <= window; ++dy)
             for (int dx = -window; dx <= window; ++dx) {
                 if (dx == 0 && dy == 0) continue;
-                const auto zq = viewDepth(f, camera, x + dx, y + dy);
-                if (!zq || !cleanPixel(f, camera, x + dx, y + dy, *zq, split.ambiguous)) continue;
+                const auto zq = viewDepth(f, depths, x + dx, y + dy);
+                if (!zq || !cleanPixel(f, depths, x + dx, y + dy, *zq, split.ambiguous)) continue;
                 if (pass == 0) {
                     z_min = std::min(z_min, *zq);
                     z_max = std::max(z_max, *zq);

@@ -2,6 +2,7 @@
 // The pixel filter's geometry in the reference (reference.cpp, silhouette_split.cpp): the taps'
 // planes and where pixel rays meet them, in world space, double precision.
 #include <optional>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -47,7 +48,10 @@ struct SilhouetteSplit {
     // the share of the tap at pixel offset (u, v) on the nearer surface
     double nearShare(double u, double v) const;
 };
+// Every pixel's view depth (NaN where it has no point), which splitSilhouette reads many times.
+std::vector<double> viewDepths(const GBuffer& f, const Camera& camera);
 SilhouetteSplit splitSilhouette(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection,
-                                const FilterQuadrature& quadrature, int x, int y);
+                                const FilterQuadrature& quadrature, const std::vector<double>& view_depths, int x,
+                                int y);
 
 }  // namespace decalcomp::reference
