@@ -104,18 +104,25 @@ inline bool dc_tap_plane(__constant const DcFrame* f, const DcTapRays* rays, flo
 /* bisection steps placing the split line: 2^-16 of the footprint */
 #define DC_SPLIT_STEPS 16
 
-/* A clean pixel: every 4-neighbour a surface within DC_CLEAN_DEPTH_STEP of its view depth z. */
-inline bool dc_clean_pixel(__constant const DcFrame* f, __global const float* depth_plane,
+/* The largest view-depth step from pixel (x, y) at view depth z to its 4-neighbours in the frame;
+ * MAXFLOAT where one of them has no point. */
+inline float dc_depth_step(__constant const DcFrame* f, __global const float* depth_plane,
                            __global const float4* position_plane, int x, int y, float z) {
+    float step = 0.0f;
     for (int k = 0; k < 4; ++k) {
         const int nx = x + (k == 0) - (k == 1), ny = y + (k == 2) - (k == 3);
         float zn;
         if (nx < 0 || ny < 0 || nx >= f->width || ny >= f->height) continue;
-        if (!dc_view_depth(f, depth_plane, position_plane, nx, ny, &zn) ||
-            !(fabs(zn - z) <= DC_CLEAN_DEPTH_STEP * z))
-            return false;
+        if (!dc_view_depth(f, depth_plane, position_plane, nx, ny, &zn)) return MAXFLOAT;
+        step = fmax(step, fabs(zn - z));
     }
-    return true;
+    return step;
+}
+
+/* A clean pixel: every 4-neighbour a surface within DC_CLEAN_DEPTH_STEP of its view depth z. */
+inline bool dc_clean_pixel(__constant const DcFrame* f, __global const float* depth_plane,
+                           __global const float4* position_plane, int x, int y, float z) {
+    return dc_depth_step(f, depth_plane, position_plane, x, y, z) <= DC_CLEAN_DEPTH_STEP * z;
 }
 
 /* The filter's weight on the nearer surface with the split line at c. */
@@ -160,15 +167,8 @@ inline void dc_split_silhouette(__constant const DcFrame* f, __global const floa
                                 __global const float4* original1, int has_normal, int x, int y, float3 p,
                                 DcTaps* t) {
     const float z = -p.z;
-    bool jump = false;
-    for (int k = 0; k < 4; ++k) {
-        const int nx = x + (k == 0) - (k == 1), ny = y + (k == 2) - (k == 3);
-        float zn;
-        if (nx >= 0 && ny >= 0 && nx < f->width && ny < f->height &&
-            dc_view_depth(f, depth_plane, position_plane, nx, ny, &zn) && fabs(zn - z) > DC_MIXED_DEPTH_JUMP * z)
-            jump = true;
-    }
-    if (!jump) return;
+    /* (dc_taps has point-sampled pixels beside background: every 4-neighbour here has a point) */
+    if (!(dc_depth_step(f, depth_plane, position_plane, x, y, z) > DC_MIXED_DEPTH_JUMP * z)) return;
     /* pass 0: the depth range of the window's clean pixels; pass 1: the nearer and the farther
      * half, each one's nearest pixel and the mean offset */
     const int window = clamp((int)ceil(f->filter_radius + 0.5f) + 1, 2, DC_SPLIT_WINDOW);

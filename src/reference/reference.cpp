@@ -564,11 +564,7 @@ constexpr Attribute kTargetAttributes[kDecalTargets] = {Attribute::Albedo,   Att
 
 // The file's normal as a world-space unit vector (docs/conventions.md "Normals").
 glm::dvec3 decodedNormal(const GBuffer& f, const Camera& camera, std::size_t i) {
-    const Plane& plane = f.planes.at(Attribute::Normal);
-    glm::dvec3 n(plane.at(i, 0), plane.at(i, 1), plane.at(i, 2));
-    if (f.normal_encoding.packed) n = 2.0 * n - 1.0;
-    if (f.normal_encoding.space == NormalSpace::Camera) n = glm::transpose(glm::dmat3(camera.world_to_camera)) * n;
-    return glm::normalize(n);
+    return glm::normalize(worldNormalAsStored(f, camera, i));
 }
 
 glm::dvec3 encodedNormal(const GBuffer& f, const Camera& camera, glm::dvec3 world) {

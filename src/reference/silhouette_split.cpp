@@ -43,28 +43,12 @@ bool cleanPixel(const GBuffer& f, const std::vector<double>& depths, int x, int 
     return true;
 }
 
-glm::dvec3 planeValue(const GBuffer& f, Attribute a, std::size_t i) {
-    if (!f.has(a)) return glm::dvec3(0.0);
-    const Plane& p = f.planes.at(a);
-    glm::dvec3 v(0.0);
-    for (int c = 0; c < std::min(3, p.components); ++c) v[c] = p.at(i, c);
-    return v;
-}
-
-// The file's normal decoded to world space, not normalised (a filtered normal is shorter than 1).
-glm::dvec3 worldNormalAsStored(const GBuffer& f, const Camera& camera, std::size_t i) {
-    glm::dvec3 n = planeValue(f, Attribute::Normal, i);
-    if (f.normal_encoding.packed) n = 2.0 * n - 1.0;
-    if (f.normal_encoding.space == NormalSpace::Camera) n = glm::transpose(glm::dmat3(camera.world_to_camera)) * n;
-    return n;
-}
-
 // The nearer surface's share of the pixel (kernels: dc_mixed_share): from the albedo where the two
 // surfaces' albedos differ enough, else from the normal; nullopt where neither tells them apart.
 std::optional<double> mixedShare(const GBuffer& f, const Camera& camera, std::size_t i, std::size_t in,
                                  std::size_t jf, bool& ambiguous) {
-    const glm::dvec3 a = planeValue(f, Attribute::Albedo, i), an = planeValue(f, Attribute::Albedo, in),
-                     af = planeValue(f, Attribute::Albedo, jf);
+    const glm::dvec3 a = surfaceAt(f.planes, i).albedo, an = surfaceAt(f.planes, in).albedo,
+                     af = surfaceAt(f.planes, jf).albedo;
     const glm::dvec3 da = an - af;
     auto clamped = [](double w) {
         return std::isfinite(w) ? std::optional<double>(std::clamp(w, 0.0, 1.0)) : std::nullopt;
@@ -91,6 +75,14 @@ double nearWeight(const SilhouetteSplit& s, const FilterQuadrature& q, double c)
 }
 
 }  // namespace
+
+glm::dvec3 worldNormalAsStored(const GBuffer& f, const Camera& camera, std::size_t i) {
+    const Plane& plane = f.planes.at(Attribute::Normal);
+    glm::dvec3 n(plane.at(i, 0), plane.at(i, 1), plane.at(i, 2));
+    if (f.normal_encoding.packed) n = 2.0 * n - 1.0;
+    if (f.normal_encoding.space == NormalSpace::Camera) n = glm::transpose(glm::dmat3(camera.world_to_camera)) * n;
+    return n;
+}
 
 double SilhouetteSplit::nearShare(double u, double v) const {
     return std::clamp((c - (dir.x * u + dir.y * v)) / width + 0.5, 0.0, 1.0);
@@ -175,11 +167,8 @@ SilhouetteSplit splitSilhouette(const GBuffer& f, const Camera& camera, const gl
         split.plane[k] = tapPlane(f, camera, inverse_projection, x, y, *on_ray, n);
         if (split.plane[k].ambiguous) split.ambiguous = true;
         if (!split.plane[k].valid) return split;
-        Surface& m = split.material[k];
-        m.albedo = planeValue(f, Attribute::Albedo, at[k]);
-        m.roughness = planeValue(f, Attribute::Roughness, at[k]).x;
-        m.metallic = planeValue(f, Attribute::Metallic, at[k]).x;
-        m.normal = n;
+        split.material[k] = surfaceAt(f.planes, at[k]);
+        split.material[k].normal = n;
     }
     // the line where the filter's weight on the nearer side is the nearer surface's share, placed
     // by the kernel's bisection

@@ -17,6 +17,10 @@ namespace decalcomp::reference {
 std::optional<glm::dvec3> rayOnPlane(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection,
                                      double px, double py, const glm::dvec3& P, const glm::dvec3& n);
 
+// The file's normal at pixel i decoded to world space, not normalised (a filtered normal is shorter
+// than 1).
+glm::dvec3 worldNormalAsStored(const GBuffer& f, const Camera& camera, std::size_t i);
+
 // Camera-space normal from neighbouring points, per axis from the neighbour nearer in depth; `tie`
 // is set when both neighbours are about as near, so float rounding may pick either.
 glm::dvec3 normalFromDepth(const GBuffer& f, const Camera& camera, int x, int y, const glm::dvec3& p, bool& tie);
