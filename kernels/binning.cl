@@ -202,9 +202,78 @@ __kernel void dc_coarse_fill(__constant const DcFrame* frame, __global const ulo
     }
 }
 
+/* Level 2 also tests each decal's own volume: when a point-sampled frame's points lie on their
+ * pixels' rays (every convention but position), a tile's points lie inside the frustum piece of its
+ * rectangle and depth range, the hull of 8 corners. A decal whose volume lies wholly beyond one of
+ * its own bounding planes from all 8 misses every pixel of the tile: turned decals list far fewer
+ * tiles than their screen rectangles cover (docs/benchmarks.md). */
+typedef struct {
+    float3 corner[8];
+    float radius; /* the largest |corner|: bounds every point of the tile */
+    int valid;
+} DcTileHull;
+
+inline DcTileHull dc_tile_hull(__constant const DcFrame* f, int tx, int ty, float2 range) {
+    DcTileHull h;
+    h.valid = f->filter_taps == 0 && f->depth_convention != DC_DEPTH_POSITION && range.x <= range.y;
+    h.radius = 0.0f;
+    if (!h.valid) return h;
+    /* the pixel centres lie half a pixel inside the tile's edges; depths get the bounds' slack */
+    const float x0 = (float)(tx * DC_TILE_SIZE), y0 = (float)(ty * DC_TILE_SIZE);
+    const float x1 = (float)min(f->width, (tx + 1) * DC_TILE_SIZE), y1 = (float)min(f->height, (ty + 1) * DC_TILE_SIZE);
+    const float z0 = fmax(range.x - fabs(range.x) * DC_DEPTH_SLACK_REL - DC_DEPTH_SLACK_ABS, 0.0f);
+    const float z1 = range.y + fabs(range.y) * DC_DEPTH_SLACK_REL + DC_DEPTH_SLACK_ABS;
+    for (int i = 0; i < 8; ++i) {
+        h.corner[i] = dc_point_at_view_depth(f, (i & 1) ? x1 : x0, (i & 2) ? y1 : y0, (i & 4) ? z1 : z0);
+        h.radius = fmax(h.radius, length(h.corner[i]));
+    }
+    h.valid = !isnan(h.radius) && !isinf(h.radius);
+    return h;
+}
+
+/* Whether the tile's hull lies wholly outside one of decal d's bounding planes (in its local
+ * space: the unit box's faces, which also bound a cube's sphere; a frustum's six planes). The
+ * margin covers the rounding of the shading kernel's own local coordinates, whose error grows with
+ * the point's and the decal's offsets. */
+inline bool dc_hull_misses(__global const DcDecal* d, const DcTileHull* h) {
+    __global const float* m = d->camera_to_local;
+    const float scale = fmax(d->local_scale[0], fmax(d->local_scale[1], d->local_scale[2]));
+    const float offset = fmax(fabs(m[3]), fmax(fabs(m[7]), fabs(m[11])));
+    const bool frustum = d->kind == DC_KIND_FRUSTUM;
+    const float slope_x = frustum ? d->tan_half_fov_y * d->aspect : 0.0f, slope_y = frustum ? d->tan_half_fov_y : 0.0f;
+    const float margin = 1e-4f * (scale * h->radius + offset) * (1.0f + slope_x + slope_y) + 1e-6f;
+    /* per plane, the least excess over all corners; the tile misses when some plane's is positive */
+    float least[6];
+    for (int k = 0; k < 6; ++k) least[k] = MAXFLOAT;
+    for (int i = 0; i < 8; ++i) {
+        const float3 l = dc_affine_global(m, h->corner[i]);
+        float e[6];
+        if (frustum) {
+            const float dist = -l.z;
+            e[0] = l.x - dist * slope_x;
+            e[1] = -l.x - dist * slope_x;
+            e[2] = l.y - dist * slope_y;
+            e[3] = -l.y - dist * slope_y;
+            e[4] = d->near_plane - dist;
+            e[5] = dist - d->far_plane;
+        } else {
+            e[0] = l.x - 0.5f;
+            e[1] = -l.x - 0.5f;
+            e[2] = l.y - 0.5f;
+            e[3] = -l.y - 0.5f;
+            e[4] = l.z - 0.5f;
+            e[5] = -l.z - 0.5f;
+        }
+        for (int k = 0; k < 6; ++k) least[k] = fmin(least[k], e[k]);
+    }
+    for (int k = 0; k < 6; ++k)
+        if (least[k] > margin) return true;
+    return false;
+}
+
 /* Level 2: one work-item per tile over its coarse tile's list. With `write` 0 it only counts. */
-inline int dc_tile_bin(__constant const DcFrame* frame, __global const DcDecalBounds* bounds,
-                       __global const float2* tile_depth, __global const int* coarse_offsets,
+inline int dc_tile_bin(__constant const DcFrame* frame, __global const DcDecal* decals,
+                       __global const DcDecalBounds* bounds, __global const float2* tile_depth, __global const int* coarse_offsets,
                        __global const int* coarse_lists, int coarse_capacity, int tile, int room,
                        __global int* out) {
     float2 range = tile_depth[tile];
@@ -217,12 +286,14 @@ inline int dc_tile_bin(__constant const DcFrame* frame, __global const DcDecalBo
             range = (float2)(fmin(range.x, t.x), fmax(range.y, t.y));
         }
     const int c = (ty / DC_COARSE_TILES) * dc_coarse_tiles_x(frame) + tx / DC_COARSE_TILES;
+    const DcTileHull hull = dc_tile_hull(frame, tx, ty, range);
     int n = 0;
     /* an overflowed coarse list is read only up to its capacity: the frame runs again anyway */
     const int end = min(coarse_offsets[c + 1], coarse_capacity);
     for (int k = coarse_offsets[c]; k < end; ++k) {
         const int d = coarse_lists[k];
-        if (dc_overlaps(bounds[d], tx, ty, tx, ty, range)) {
+        if (dc_overlaps(bounds[d], tx, ty, tx, ty, range) &&
+            !(hull.valid && decals[d].rest_binding < 0 && dc_hull_misses(&decals[d], &hull))) {
             if (n < room) out[n] = d;
             ++n;
         }
@@ -230,21 +301,23 @@ inline int dc_tile_bin(__constant const DcFrame* frame, __global const DcDecalBo
     return n;
 }
 
-__kernel void dc_bin_count(__constant const DcFrame* frame, __global const DcDecalBounds* bounds,
+__kernel void dc_bin_count(__constant const DcFrame* frame, __global const DcDecal* decals,
+                           __global const DcDecalBounds* bounds,
                            __global const float2* tile_depth, __global const int* coarse_offsets,
                            __global const int* coarse_lists, int coarse_capacity, __global int* counts) {
     const int tile = get_global_id(0);
     if (tile >= frame->tiles_x * frame->tiles_y) return;
-    counts[tile] = dc_tile_bin(frame, bounds, tile_depth, coarse_offsets, coarse_lists, coarse_capacity, tile, 0, 0);
+    counts[tile] = dc_tile_bin(frame, decals, bounds, tile_depth, coarse_offsets, coarse_lists, coarse_capacity, tile, 0, 0);
 }
 
-__kernel void dc_bin_fill(__constant const DcFrame* frame, __global const DcDecalBounds* bounds,
+__kernel void dc_bin_fill(__constant const DcFrame* frame, __global const DcDecal* decals,
+                          __global const DcDecalBounds* bounds,
                           __global const float2* tile_depth, __global const int* coarse_offsets,
                           __global const int* coarse_lists, int coarse_capacity, __global const int* offsets,
                           __global int* tile_decals, int capacity) {
     const int tile = get_global_id(0);
     if (tile >= frame->tiles_x * frame->tiles_y) return;
     const int start = offsets[tile];
-    dc_tile_bin(frame, bounds, tile_depth, coarse_offsets, coarse_lists, coarse_capacity, tile,
+    dc_tile_bin(frame, decals, bounds, tile_depth, coarse_offsets, coarse_lists, coarse_capacity, tile,
                 max(0, capacity - start), tile_decals + start);
 }

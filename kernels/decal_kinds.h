@@ -7,11 +7,6 @@
 #include "matrix.h"
 #include "texture_sample.h"
 
-/* For the per-decal functions: NVIDIA's compiler otherwise keeps them out of line and passes the
- * structs through stack memory for every pixel-decal pair (3.7x slower unbinned shading at
- * 1080p, docs/benchmarks.md). */
-#define DC_INLINE __attribute__((always_inline)) inline
-
 inline float dc_ramp_down(float x, float full, float none) { return clamp((none - x) / (none - full), 0.0f, 1.0f); }
 
 /* Angle fade against a unit direction the receiving surface should face. Back faces get 0. */

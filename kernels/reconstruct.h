@@ -87,6 +87,19 @@ inline bool dc_view_depth(__constant const DcFrame* f, __global const float* dep
     return true;
 }
 
+/* The camera-space point at view depth z (-z in camera space) on the ray through data-window
+ * position (px, py), in pixels from the window's top-left corner (pixel centres are at + 0.5). */
+inline float3 dc_point_at_view_depth(__constant const DcFrame* f, float px, float py, float z) {
+    const float2 ndc = (float2)(2.0f * (px + (float)f->origin_x) / (float)f->display_width - 1.0f,
+                                1.0f - 2.0f * (py + (float)f->origin_y) / (float)f->display_height);
+    if (f->orthographic) {
+        const float3 a = dc_unproject(f, ndc, -1.0f);
+        return (float3)(a.x, a.y, -z);
+    }
+    const float3 q = dc_unproject(f, ndc, 0.0f);
+    return q * (z / -q.z);
+}
+
 /* The ray through the centre of pixel (x, y): origin + t dir, t > 0 in front of the camera. */
 inline void dc_pixel_ray(__constant const DcFrame* f, int x, int y, float3* origin, float3* dir) {
     const float2 ndc = dc_pixel_ndc(f, x, y);

@@ -146,6 +146,30 @@ DC_INLINE DcSurface dc_filter_decal_split(__constant const DcFrame* frame, __glo
     return acc;
 }
 
+/* The decal's opacity times its mask's weight at the pixel. */
+inline float dc_decal_weight(__constant const DcFrame* frame, __global const DcDecal* d,
+                             __global const float* mask_weights, int x, int y) {
+    float weight = d->opacity;
+    if (d->mask >= 0) weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
+    return weight;
+}
+
+/* Decal d point-sampled at the pixel centre p. Sets *applied when it changed s. */
+DC_INLINE DcSurface dc_point_decal(__constant const DcFrame* frame, __global const DcDecal* d, float3 p,
+                                   float3 normal, int has_normal, float3 p_dx, float3 p_dy, int footprint, int x,
+                                   int y, __global const float* mask_weights, __global const uint* occlusion_maps,
+                                   __global const DcTexture* textures, __global const float4* texels, DcSurface s,
+                                   const int variant, int* applied) {
+    const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
+    const DcLookup lk = dc_decal_lookup(d, p, normal, has_normal, p_dx, p_dy, footprint);
+    if (!(lk.fade > 0.0f)) return s;
+    /* blast occlusion: a surface nearer the origin hides this one from the blast */
+    if (!albedo_only && d->occlusion_map >= 0 && !dc_blast_reaches(d, occlusion_maps, p, normal)) return s;
+    *applied = 1;
+    return dc_apply_decal(frame, d, lk, textures, texels, dc_decal_weight(frame, d, mask_weights, x, y), normal, s,
+                          variant);
+}
+
 /* One pixel. `variant` (DC_VARIANT_x) is a literal in each kernel below, so the lean kernels carry
  * none of the code they exclude (fewer registers, faster loops: docs/benchmarks.md). */
 inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float* depth_plane,
@@ -159,7 +183,7 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                            __global const uint* occlusion_maps, __global float4* beauty,
                            __global float4* light, __global const float4* rest_points,
                            __global const float4* rest_frames, const int variant) {
-    const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
+    const bool point_only = (variant & DC_VARIANT_POINT) != 0;
     const int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame->width || y >= frame->height) return;
     const size_t i = (size_t)y * frame->width + x;
@@ -200,41 +224,35 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
         s.ao = in2.w;
         s.normal_changed = 0;
         int applied = 0;
-        DcTaps taps = frame->filter_taps > 0 && has_normal
+        DcTaps taps = !point_only && frame->filter_taps > 0 && has_normal
                                 ? dc_taps(frame, depth_plane, position_plane, original0, original1, frame->has_normal, x,
                                           y, p, normal)
                                 : dc_point_taps();
-        for (int k = begin; k < end; ++k) {
-            __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
-            if (d->rest_binding >= 0) { /* texture-space: at its rest point(s) (rest_pose.h) */
-                float weight = d->opacity;
-                if (d->mask >= 0)
-                    weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
-                s = dc_apply_rest_decal(frame, d, rest_points, rest_frames, x, y, normal, has_normal,
-                                        taps.mode != DC_TAPS_POINT, weight, textures, texels, s, variant, &applied);
-                continue;
-            }
-            if (taps.mode != DC_TAPS_POINT) {
-                float weight = d->opacity;
-                if (d->mask >= 0)
-                    weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
-                if (taps.mode == DC_TAPS_SPLIT)
-                    s = dc_filter_decal_split(frame, d, &taps, has_normal, weight, textures, texels, occlusion_maps, s,
-                                              variant, &applied);
-                else
-                    s = dc_filter_decal(frame, d, &taps.rays, &taps.plane, has_normal, weight, textures, texels,
+        if (point_only || (taps.mode == DC_TAPS_POINT && !frame->rest_decals)) {
+            /* The common case in a loop of its own: without the branches to the pixel filter and the
+             * rest pose in its body the compiler keeps it lean (PoCL: 1.4x, docs/benchmarks.md). */
+            for (int k = begin; k < end; ++k)
+                s = dc_point_decal(frame, &decals[binned ? tile_decals[k] : k], p, normal, has_normal, p_dx, p_dy,
+                                   footprint, x, y, mask_weights, occlusion_maps, textures, texels, s, variant,
+                                   &applied);
+        } else {
+            for (int k = begin; k < end; ++k) {
+                __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
+                if (d->rest_binding >= 0) /* texture-space: at its rest point(s) (rest_pose.h) */
+                    s = dc_apply_rest_decal(frame, d, rest_points, rest_frames, x, y, normal, has_normal,
+                                            taps.mode != DC_TAPS_POINT, dc_decal_weight(frame, d, mask_weights, x, y),
+                                            textures, texels, s, variant, &applied);
+                else if (taps.mode == DC_TAPS_SPLIT)
+                    s = dc_filter_decal_split(frame, d, &taps, has_normal, dc_decal_weight(frame, d, mask_weights, x, y),
+                                              textures, texels, occlusion_maps, s, variant, &applied);
+                else if (taps.mode != DC_TAPS_POINT)
+                    s = dc_filter_decal(frame, d, &taps.rays, &taps.plane, has_normal,
+                                        dc_decal_weight(frame, d, mask_weights, x, y), textures, texels,
                                         occlusion_maps, s, variant, &applied);
-                continue;
+                else
+                    s = dc_point_decal(frame, d, p, normal, has_normal, p_dx, p_dy, footprint, x, y, mask_weights,
+                                       occlusion_maps, textures, texels, s, variant, &applied);
             }
-            const DcLookup lk = dc_decal_lookup(d, p, normal, has_normal, p_dx, p_dy, footprint);
-            if (!(lk.fade > 0.0f)) continue;
-            /* blast occlusion: a surface nearer the origin hides this one from the blast */
-            if (!albedo_only && d->occlusion_map >= 0 && !dc_blast_reaches(d, occlusion_maps, p, normal)) continue;
-            float weight = d->opacity;
-            if (d->mask >= 0)
-                weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
-            s = dc_apply_decal(frame, d, lk, textures, texels, weight, normal, s, variant);
-            applied = 1;
         }
         if (!applied) return;
         const float3 world_normal = s.normal_changed ? dc_camera_to_world_vector(frame, s.normal) : in1.xyz;
@@ -246,7 +264,7 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                                       ? dc_relight_ratio(frame, normalize(in1.xyz), world_normal)
                                       : 1.0f;
             /* mixed pixels of filtered frames, for divided light without relighting (beauty.h) */
-            const uint mixed_surfaces = frame->filter_taps > 0 && frame->light_divided && !frame->relight
+            const uint mixed_surfaces = !point_only && frame->filter_taps > 0 && frame->light_divided && !frame->relight
                                             ? dc_mixed_surfaces(frame, depth_plane, position_plane, x, y, -p.z, in1.xyz)
                                             : 0u;
             dc_update_beauty(frame, i, (size_t)frame->width * frame->height, in0.xyz, s.albedo, s.emission - in2.xyz,
@@ -274,6 +292,14 @@ __kernel void dc_shade(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(0); }
 __kernel void dc_shade_flat(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_FLAT); }
 __kernel void dc_shade_albedo(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_ALBEDO_ONLY); }
 __kernel void dc_shade_albedo_flat(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT); }
+/* The same for point-sampled frames without texture-space decals: none of the pixel filter's or
+ * the rest pose's code, and so none of their registers (docs/benchmarks.md). */
+__kernel void dc_shade_point(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_POINT); }
+__kernel void dc_shade_point_albedo(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_ALBEDO_ONLY); }
+__kernel void dc_shade_point_flat(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_FLAT); }
+__kernel void dc_shade_point_albedo_flat(DC_SHADE_ARGUMENTS) {
+    DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT);
+}
 
 #undef DC_SHADE_ARGUMENTS
 #undef DC_SHADE_CALL

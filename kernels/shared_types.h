@@ -13,6 +13,10 @@
 #ifdef DC_OPENCL_C
 #define DC_INT int
 #define DC_FLOAT float
+/* For the per-decal functions: compilers otherwise keep them out of line and pass their structs
+ * through stack memory for every pixel-decal pair (NVIDIA: 3.7x slower unbinned shading at 1080p;
+ * PoCL: texture lookups stalled on the copied DcTexture; docs/benchmarks.md). */
+#define DC_INLINE __attribute__((always_inline)) inline
 #else
 #include <cstdint>
 #define DC_INT std::int32_t
@@ -69,6 +73,7 @@ namespace decalcomp::cl_types {
  * excludes; the host picks the leanest that fits the scene). */
 #define DC_VARIANT_ALBEDO_ONLY 1 /* no other target, no blast occlusion */
 #define DC_VARIANT_FLAT 2        /* box and frustum decals only: no cube or volume lookups */
+#define DC_VARIANT_POINT 4       /* point-sampled, no texture-space decal: no pixel filter or rest pose */
 
 /* How a decal's normal map combines with the surface normal. */
 #define DC_NORMAL_RNM 0 /* reoriented normal mapping */
@@ -109,7 +114,8 @@ typedef struct {
     DC_INT beauty_emission; /* 1: emission changes add to the beauty */
     DC_INT relight;         /* 1: direct light scaled by the Lambert ratio of new and old normal */
     DC_INT rest_frames;     /* 1: the rest pass left each pixel's rest -> camera rotation (rest_pose.h) */
-    DC_INT pad1, pad2;
+    DC_INT rest_decals;     /* 1: some decal is texture-space (its rest_binding >= 0) */
+    DC_INT pad2;
     DC_FLOAT light_fit[4]; /* direct light ~ max(0, [3] + dot([0..2], world normal)) */
     /* Decals integrated over the renderer's pixel filter (docs/pixel-filter.md): filter_taps per
      * axis (0: point-sampled at the pixel centre), at filter_offset pixels from the centre with

@@ -260,6 +260,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     params.reconstruct_normals = needs_normals && !params.has_normal ? 1 : 0;
     params.needs_footprint = needs_footprint ? 1 : 0;
     params.rest_frames = rest.needs_frames ? 1 : 0;
+    params.rest_decals = rest.bindings.empty() ? 0 : 1;
     setBeautyParams(params, beauty);
     const std::size_t pixels = frame.pixelCount();
     const std::size_t decals = s.decal_params.size();
@@ -387,11 +388,11 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                                         s.chunk_starts, s.coarse_offsets, s.coarse_lists, cl_int(s.coarse_capacity));
                 // Level 2: each tile against its coarse tile's list.
                 const cl::NDRange tile_range(roundUp(tiles, kBinGroupSize));
-                e_count = k.bin_count(cl::EnqueueArgs(queue, tile_range), s.frame_buffer, s.bounds, s.tile_depth,
+                e_count = k.bin_count(cl::EnqueueArgs(queue, tile_range), s.frame_buffer, s.decal_buffer, s.bounds, s.tile_depth,
                                       s.coarse_offsets, s.coarse_lists, cl_int(s.coarse_capacity), s.tile_counts);
                 e_scan = k.scan(cl::EnqueueArgs(queue, scan_range, scan_range), s.tile_counts, cl_int(tiles),
                                 s.tile_offsets);
-                e_fill = k.bin_fill(cl::EnqueueArgs(queue, tile_range), s.frame_buffer, s.bounds, s.tile_depth,
+                e_fill = k.bin_fill(cl::EnqueueArgs(queue, tile_range), s.frame_buffer, s.decal_buffer, s.bounds, s.tile_depth,
                                     s.coarse_offsets, s.coarse_lists, cl_int(s.coarse_capacity), s.tile_offsets,
                                     s.tile_decals, cl_int(s.list_capacity));
                 queue.enqueueCopyBuffer(s.coarse_offsets, s.totals_buffer, coarse * sizeof(cl_int), 0, sizeof(cl_int));
@@ -409,14 +410,17 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 buildOcclusionMaps(context, queue, k, occlusion, s.frame_buffer, depth, position, s.decal_buffer,
                                    frame.width, frame.height, &e_occlusion);
 
-            // The leanest shading kernel that fits: albedo only without blast occlusion; 2D kinds only.
+            // The leanest shading kernel that fits: albedo only without blast occlusion; 2D kinds only;
+            // point-sampled without texture-space decals.
             const bool albedo_only = occlusion.occluders.empty() &&
                                      std::none_of(s.targets.begin() + 1, s.targets.end(), [](bool t) { return t; });
             const bool flat = std::all_of(s.scene.decals.begin(), s.scene.decals.end(), [](const Decal& d) {
                 return d.kind == DecalKind::Box || d.kind == DecalKind::Frustum;
             });
+            const bool point = params.filter_taps == 0 && !params.rest_decals;
             CompositorKernels::Shade& shade =
-                k.shade[std::size_t((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0))];
+                k.shade[std::size_t((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0) |
+                                    (point ? DC_VARIANT_POINT : 0))];
             // Binned, one work-group per screen tile: its work-items walk the same decal list. Unbinned
             // the same groups: PoCL keeps a work-group's private variables on its thread's stack, and
             // the groups it picks itself for a whole frame (40 x 78) overflowed it.

@@ -7,7 +7,8 @@ namespace decalcomp {
 namespace {
 
 // The shading kernels in DC_VARIANT_x bit order.
-static_assert(DC_VARIANT_ALBEDO_ONLY == 1 && DC_VARIANT_FLAT == 2, "shade[] is indexed by the variant bits");
+static_assert(DC_VARIANT_ALBEDO_ONLY == 1 && DC_VARIANT_FLAT == 2 && DC_VARIANT_POINT == 4,
+              "shade[] is indexed by the variant bits");
 
 }  // namespace
 
@@ -25,7 +26,13 @@ CompositorKernels::CompositorKernels(const cl::Program& program)
       occlusion_build(program, "dc_occlusion_build"),
       rest_lookup(program, "dc_rest_lookup"),
       rest_frame(program, "dc_rest_frame"),
-      shade{Shade(program, "dc_shade"), Shade(program, "dc_shade_albedo"), Shade(program, "dc_shade_flat"),
-            Shade(program, "dc_shade_albedo_flat")} {}
+      shade{Shade(program, "dc_shade"),
+            Shade(program, "dc_shade_albedo"),
+            Shade(program, "dc_shade_flat"),
+            Shade(program, "dc_shade_albedo_flat"),
+            Shade(program, "dc_shade_point"),
+            Shade(program, "dc_shade_point_albedo"),
+            Shade(program, "dc_shade_point_flat"),
+            Shade(program, "dc_shade_point_albedo_flat")} {}
 
 }  // namespace decalcomp

@@ -25,10 +25,10 @@ struct CompositorKernels {
     cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> coarse_count;
     // frame, masks, chunk starts, coarse offsets, coarse lists, coarse capacity
     cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, cl_int> coarse_fill;
-    // frame, decal bounds, tile depth, coarse offsets, coarse lists, coarse capacity, tile counts
-    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer> bin_count;
+    // frame, decals, decal bounds, tile depth, coarse offsets, coarse lists, coarse capacity, tile counts
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer> bin_count;
     // ... as bin_count, then tile offsets, tile lists, list capacity
-    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer, Buffer, cl_int> bin_fill;
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer, Buffer, cl_int> bin_fill;
     // counts, n, offsets (n + 1)
     cl::KernelFunctor<Buffer, cl_int, Buffer> scan;
     // frame, depth plane, position plane, decals, occluder indices, occluder count, maps
@@ -45,7 +45,7 @@ struct CompositorKernels {
     // rest points, rest frames
     using Shade = cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
                                     Buffer, Buffer, Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer>;
-    std::array<Shade, 4> shade;  // by variant bits: DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT
+    std::array<Shade, 8> shade;  // by variant bits: DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT | DC_VARIANT_POINT
 };
 
 }  // namespace decalcomp
