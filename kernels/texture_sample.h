@@ -52,12 +52,13 @@ inline float dc_box_share(float lo, float hi, float texel) { /* of [lo, hi] insi
     return fmax(0.0f, fmin(hi, texel + 1.0f) - fmax(lo, texel));
 }
 
-inline float4 dc_sample_slice_box(__global const float4* texels, DcTexture t, float s, float tc, int slice, float2 rho) {
+DC_INLINE float4 dc_sample_slice_box(__global const float4* texels, DcTexture t, float s, float tc, int slice,
+                                     float2 rho) {
     const float2 c = (float2)(clamp(s * (float)t.width, -1.0f, (float)t.width + 1.0f),
                               clamp(tc * (float)t.height, -1.0f, (float)t.height + 1.0f));
     const float2 r = fmax(rho, (float2)(1e-6f));
     const float2 lo = c - 0.5f * r, hi = c + 0.5f * r;
-    const float2 first = floor(lo);
+    const float2 first = (float2)(dc_floor_clamped(lo.x), dc_floor_clamped(lo.y)); /* lo >= -2 */
     float4 sum = (float4)(0.0f);
     for (int j = 0; j < 3; ++j) {
         const float wy = dc_box_share(lo.y, hi.y, first.y + (float)j) / r.y;
