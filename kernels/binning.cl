@@ -271,53 +271,61 @@ inline bool dc_hull_misses(__global const DcDecal* d, const DcTileHull* h) {
     return false;
 }
 
-/* Level 2: one work-item per tile over its coarse tile's list. With `write` 0 it only counts. */
-inline int dc_tile_bin(__constant const DcFrame* frame, __global const DcDecal* decals,
-                       __global const DcDecalBounds* bounds, __global const float2* tile_depth, __global const int* coarse_offsets,
-                       __global const int* coarse_lists, int coarse_capacity, int tile, int room,
-                       __global int* out) {
-    float2 range = tile_depth[tile];
-    if (!(range.x <= range.y)) return 0; /* no surface pixel to shade */
+/* Level 2: one work-item per tile over its coarse tile's list. The count pass tests each entry
+ * and leaves one flag per (tile of the coarse tile, entry) in `listed`, at
+ * DC_COARSE_TILES^2 flags per entry: the fill pass then reads the flags instead of testing again. */
+inline int dc_tile_in_coarse(__constant const DcFrame* frame, int tile) {
     const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x;
-    const int apron = dc_depth_apron(frame);
-    for (int ny = max(0, ty - apron); ny <= min(frame->tiles_y - 1, ty + apron); ++ny)
-        for (int nx = max(0, tx - apron); nx <= min(frame->tiles_x - 1, tx + apron); ++nx) {
-            const float2 t = tile_depth[ny * frame->tiles_x + nx];
-            range = (float2)(fmin(range.x, t.x), fmax(range.y, t.y));
-        }
-    const int c = (ty / DC_COARSE_TILES) * dc_coarse_tiles_x(frame) + tx / DC_COARSE_TILES;
-    const DcTileHull hull = dc_tile_hull(frame, tx, ty, range);
-    int n = 0;
-    /* an overflowed coarse list is read only up to its capacity: the frame runs again anyway */
-    const int end = min(coarse_offsets[c + 1], coarse_capacity);
-    for (int k = coarse_offsets[c]; k < end; ++k) {
-        const int d = coarse_lists[k];
-        if (dc_overlaps(bounds[d], tx, ty, tx, ty, range) &&
-            !(hull.valid && decals[d].rest_binding < 0 && dc_hull_misses(&decals[d], &hull))) {
-            if (n < room) out[n] = d;
-            ++n;
-        }
-    }
-    return n;
+    return (ty % DC_COARSE_TILES) * DC_COARSE_TILES + tx % DC_COARSE_TILES;
+}
+
+inline int dc_coarse_of_tile(__constant const DcFrame* frame, int tile) {
+    const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x;
+    return (ty / DC_COARSE_TILES) * dc_coarse_tiles_x(frame) + tx / DC_COARSE_TILES;
 }
 
 __kernel void dc_bin_count(__constant const DcFrame* frame, __global const DcDecal* decals,
-                           __global const DcDecalBounds* bounds,
-                           __global const float2* tile_depth, __global const int* coarse_offsets,
-                           __global const int* coarse_lists, int coarse_capacity, __global int* counts) {
+                           __global const DcDecalBounds* bounds, __global const float2* tile_depth,
+                           __global const int* coarse_offsets, __global const int* coarse_lists, int coarse_capacity,
+                           __global uchar* listed, __global int* counts) {
     const int tile = get_global_id(0);
     if (tile >= frame->tiles_x * frame->tiles_y) return;
-    counts[tile] = dc_tile_bin(frame, decals, bounds, tile_depth, coarse_offsets, coarse_lists, coarse_capacity, tile, 0, 0);
+    const int c = dc_coarse_of_tile(frame, tile), slot = dc_tile_in_coarse(frame, tile);
+    /* an overflowed coarse list is read only up to its capacity: the frame runs again anyway */
+    const int begin = coarse_offsets[c], end = min(coarse_offsets[c + 1], coarse_capacity);
+    float2 range = tile_depth[tile];
+    int n = 0;
+    if (range.x <= range.y) { /* else no surface pixel to shade */
+        const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x;
+        const int apron = dc_depth_apron(frame);
+        for (int ny = max(0, ty - apron); ny <= min(frame->tiles_y - 1, ty + apron); ++ny)
+            for (int nx = max(0, tx - apron); nx <= min(frame->tiles_x - 1, tx + apron); ++nx) {
+                const float2 t = tile_depth[ny * frame->tiles_x + nx];
+                range = (float2)(fmin(range.x, t.x), fmax(range.y, t.y));
+            }
+        const DcTileHull hull = dc_tile_hull(frame, tx, ty, range);
+        for (int k = begin; k < end; ++k) {
+            const int d = coarse_lists[k];
+            const bool in = dc_overlaps(bounds[d], tx, ty, tx, ty, range) &&
+                            !(hull.valid && decals[d].rest_binding < 0 && dc_hull_misses(&decals[d], &hull));
+            listed[(size_t)k * (DC_COARSE_TILES * DC_COARSE_TILES) + slot] = in ? 1 : 0;
+            n += in ? 1 : 0;
+        }
+    } else {
+        for (int k = begin; k < end; ++k) listed[(size_t)k * (DC_COARSE_TILES * DC_COARSE_TILES) + slot] = 0;
+    }
+    counts[tile] = n;
 }
 
-__kernel void dc_bin_fill(__constant const DcFrame* frame, __global const DcDecal* decals,
-                          __global const DcDecalBounds* bounds,
-                          __global const float2* tile_depth, __global const int* coarse_offsets,
-                          __global const int* coarse_lists, int coarse_capacity, __global const int* offsets,
-                          __global int* tile_decals, int capacity) {
+/* `capacity` entries fit in `tile_decals` from the prefix-summed `offsets`. */
+__kernel void dc_bin_fill(__constant const DcFrame* frame, __global const int* coarse_offsets,
+                          __global const int* coarse_lists, int coarse_capacity, __global const uchar* listed,
+                          __global const int* offsets, __global int* tile_decals, int capacity) {
     const int tile = get_global_id(0);
     if (tile >= frame->tiles_x * frame->tiles_y) return;
-    const int start = offsets[tile];
-    dc_tile_bin(frame, decals, bounds, tile_depth, coarse_offsets, coarse_lists, coarse_capacity, tile,
-                max(0, capacity - start), tile_decals + start);
+    const int c = dc_coarse_of_tile(frame, tile), slot = dc_tile_in_coarse(frame, tile);
+    const int begin = coarse_offsets[c], end = min(coarse_offsets[c + 1], coarse_capacity);
+    int next = offsets[tile];
+    for (int k = begin; k < end && next < capacity; ++k)
+        if (listed[(size_t)k * (DC_COARSE_TILES * DC_COARSE_TILES) + slot]) tile_decals[next++] = coarse_lists[k];
 }

@@ -101,6 +101,9 @@ struct Compositor::State {
     std::array<cl::Buffer, 2> original;
     cl::Buffer frame_buffer, decal_buffer, bounds, tile_depth, coarse_depth, coarse_counts, coarse_offsets,
         chunk_masks, chunk_starts, coarse_lists, tile_counts, tile_offsets, tile_decals, totals_buffer;
+    // Per coarse-list entry, a flag for each tile of its coarse tile: the binning's count pass
+    // leaves its tests there for the fill pass.
+    cl::Buffer listed;
     std::size_t coarse_capacity = 0, list_capacity = 0;  // list entries (ints)
 
     // last frame's binning, kept for lastBinning()
@@ -304,6 +307,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         // ---- one pass; again only when a list outgrew its capacity (then grown to fit) ----
         for (int attempt = 0;; ++attempt) {
             reserve(context, s.coarse_lists, s.coarse_capacity * sizeof(cl_int));
+            reserve(context, s.listed, s.coarse_capacity * DC_COARSE_TILES * DC_COARSE_TILES);
             reserve(context, s.tile_decals, s.list_capacity * sizeof(cl_int));
             queue.enqueueWriteBuffer(s.frame_buffer, CL_FALSE, 0, sizeof(params), &params);
             queue.enqueueWriteBuffer(s.decal_buffer, CL_FALSE, 0, decals * sizeof(cl_types::DcDecal),
@@ -388,12 +392,13 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                                         s.chunk_starts, s.coarse_offsets, s.coarse_lists, cl_int(s.coarse_capacity));
                 // Level 2: each tile against its coarse tile's list.
                 const cl::NDRange tile_range(roundUp(tiles, kBinGroupSize));
-                e_count = k.bin_count(cl::EnqueueArgs(queue, tile_range), s.frame_buffer, s.decal_buffer, s.bounds, s.tile_depth,
-                                      s.coarse_offsets, s.coarse_lists, cl_int(s.coarse_capacity), s.tile_counts);
+                e_count = k.bin_count(cl::EnqueueArgs(queue, tile_range), s.frame_buffer, s.decal_buffer, s.bounds,
+                                      s.tile_depth, s.coarse_offsets, s.coarse_lists, cl_int(s.coarse_capacity),
+                                      s.listed, s.tile_counts);
                 e_scan = k.scan(cl::EnqueueArgs(queue, scan_range, scan_range), s.tile_counts, cl_int(tiles),
                                 s.tile_offsets);
-                e_fill = k.bin_fill(cl::EnqueueArgs(queue, tile_range), s.frame_buffer, s.decal_buffer, s.bounds, s.tile_depth,
-                                    s.coarse_offsets, s.coarse_lists, cl_int(s.coarse_capacity), s.tile_offsets,
+                e_fill = k.bin_fill(cl::EnqueueArgs(queue, tile_range), s.frame_buffer, s.coarse_offsets,
+                                    s.coarse_lists, cl_int(s.coarse_capacity), s.listed, s.tile_offsets,
                                     s.tile_decals, cl_int(s.list_capacity));
                 queue.enqueueCopyBuffer(s.coarse_offsets, s.totals_buffer, coarse * sizeof(cl_int), 0, sizeof(cl_int));
                 queue.enqueueCopyBuffer(s.tile_offsets, s.totals_buffer, tiles * sizeof(cl_int), sizeof(cl_int),

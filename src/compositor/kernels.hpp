@@ -25,10 +25,12 @@ struct CompositorKernels {
     cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> coarse_count;
     // frame, masks, chunk starts, coarse offsets, coarse lists, coarse capacity
     cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, cl_int> coarse_fill;
-    // frame, decals, decal bounds, tile depth, coarse offsets, coarse lists, coarse capacity, tile counts
-    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer> bin_count;
-    // ... as bin_count, then tile offsets, tile lists, list capacity
-    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer, Buffer, cl_int> bin_fill;
+    // frame, decals, decal bounds, tile depth, coarse offsets, coarse lists, coarse capacity, listed
+    // flags, tile counts
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer, Buffer> bin_count;
+    // frame, coarse offsets, coarse lists, coarse capacity, listed flags, tile offsets, tile lists,
+    // list capacity
+    cl::KernelFunctor<Buffer, Buffer, Buffer, cl_int, Buffer, Buffer, Buffer, cl_int> bin_fill;
     // counts, n, offsets (n + 1)
     cl::KernelFunctor<Buffer, cl_int, Buffer> scan;
     // frame, depth plane, position plane, decals, occluder indices, occluder count, maps
