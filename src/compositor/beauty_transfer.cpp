@@ -29,13 +29,39 @@ void unpackRgb(Plane& plane, const float* result) {
         for (int c = 0; c < 3; ++c) out[i * 3 + c] = result[i * 4 + c];
 }
 
+// The sum of the summed terms into float4s.
+void packSummedTerms(const BeautyPlanes& planes, float* out) {
+    const auto pixels = std::ptrdiff_t(planes.beauty.samples.size() / 3);
+    const int terms = planes.summed_terms;
+#pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
+    for (std::ptrdiff_t i = 0; i < pixels; ++i) {
+        float* o = out + i * 4;
+        for (int c = 0; c < 3; ++c) {
+            const std::size_t sample = std::size_t(i) * 3 + std::size_t(c);
+            float sum = 0.0f;
+            for (int t = 0; t < terms; ++t) sum += planes.light[std::size_t(t)].samples[sample];
+            o[c] = sum;
+        }
+        o[3] = 0.0f;
+    }
+}
+
 }  // namespace
 
-void setBeautyParams(cl_types::DcFrame& params, const BeautyPlanes* planes) {
+bool foldsLightTerms(const BeautyPlanes& planes, bool filtered) {
+    return planes.divided && !planes.relight && !filtered;
+}
+
+std::size_t deviceLightTerms(const BeautyPlanes& planes, bool fold) {
+    if (!fold) return planes.light.size();
+    return planes.summed_terms > 0 ? 1 : 0;
+}
+
+void setBeautyParams(cl_types::DcFrame& params, const BeautyPlanes* planes, bool fold) {
     params.beauty = planes ? 1 : 0;
-    params.light_terms = planes ? int(planes->light.size()) : 0;
-    params.direct_terms = planes ? planes->direct_terms : 0;
-    params.summed_terms = planes ? planes->summed_terms : 0;
+    params.light_terms = planes ? int(deviceLightTerms(*planes, fold)) : 0;
+    params.direct_terms = planes && !fold ? planes->direct_terms : 0;
+    params.summed_terms = planes ? (fold ? params.light_terms : planes->summed_terms) : 0;
     params.light_divided = planes && !planes->divided ? 0 : 1;
     params.beauty_emission = planes && planes->emission ? 1 : 0;
     params.relight = planes && planes->relight ? 1 : 0;
@@ -55,8 +81,12 @@ void checkBeautyPlanes(const BeautyPlanes& planes, std::size_t pixels) {
         throw inputError("beauty update: direct and summed term counts out of range");
 }
 
-void packBeautyPlanes(const BeautyPlanes& planes, float* beauty, float* light) {
+void packBeautyPlanes(const BeautyPlanes& planes, bool fold, float* beauty, float* light) {
     packRgb(planes.beauty, beauty);
+    if (fold) {
+        if (planes.summed_terms > 0) packSummedTerms(planes, light);
+        return;
+    }
     const std::size_t pixels = planes.beauty.samples.size() / 3;
     for (std::size_t t = 0; t < planes.light.size(); ++t) packRgb(planes.light[t], light + t * pixels * 4);
 }

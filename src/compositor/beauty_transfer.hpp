@@ -8,14 +8,22 @@
 
 namespace decalcomp {
 
+// Whether the device gets the summed terms as one: divided light that is not relit is never
+// rewritten, and its summed terms only ever add up, so one term of their sum carries the whole
+// update (Combined' = Combined + (DiffDir + DiffInd) (DiffCol' - DiffCol) as the formula reads) in
+// half the traffic. Not on filtered frames, whose mixed pixels take the least light per term.
+bool foldsLightTerms(const BeautyPlanes& planes, bool filtered);
+// The light terms the device holds.
+std::size_t deviceLightTerms(const BeautyPlanes& planes, bool fold);
+
 // The DcFrame fields of the beauty update; all off without planes.
-void setBeautyParams(cl_types::DcFrame& params, const BeautyPlanes* planes);
+void setBeautyParams(cl_types::DcFrame& params, const BeautyPlanes* planes, bool fold);
 
 // Throws Error(Input) when a plane does not cover `pixels` with 3 components.
 void checkBeautyPlanes(const BeautyPlanes& planes, std::size_t pixels);
 
-// Fills `beauty` (pixels float4) and `light` (terms x pixels float4) from the planes.
-void packBeautyPlanes(const BeautyPlanes& planes, float* beauty, float* light);
+// Fills `beauty` (pixels float4) and `light` (device terms x pixels float4) from the planes.
+void packBeautyPlanes(const BeautyPlanes& planes, bool fold, float* beauty, float* light);
 // Writes the kernel's results back: the beauty, and the light terms when the kernel rewrote them.
 void unpackBeautyPlanes(BeautyPlanes& planes, const float* beauty, const float* light);
 

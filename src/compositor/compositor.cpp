@@ -264,7 +264,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     params.needs_footprint = needs_footprint ? 1 : 0;
     params.rest_frames = rest.needs_frames ? 1 : 0;
     params.rest_decals = rest.bindings.empty() ? 0 : 1;
-    setBeautyParams(params, beauty);
+    const bool fold_light = beauty && foldsLightTerms(*beauty, params.filter_taps > 0);
+    setBeautyParams(params, beauty, fold_light);
     const std::size_t pixels = frame.pixelCount();
     const std::size_t decals = s.decal_params.size();
     const std::size_t tiles = std::size_t(params.tiles_x) * std::size_t(params.tiles_y);
@@ -288,7 +289,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             reserve(context, s.original[std::size_t(g)],
                     (filtered && surface.used[std::size_t(g)] ? pixels : 1) * sizeof(cl_float4));
         s.masks.reserve(context, queue, std::max<std::size_t>(s.mask_count * pixels, 1) * sizeof(float), s.unified);
-        const std::size_t light_terms = beauty ? beauty->light.size() : 0;
+        const std::size_t light_terms = beauty ? deviceLightTerms(*beauty, fold_light) : 0;
         s.beauty.reserve(context, queue, (beauty ? pixels : 1) * sizeof(cl_float4), s.unified);
         s.light.reserve(context, queue, std::max<std::size_t>(light_terms * pixels, 1) * sizeof(cl_float4), s.unified);
         reserve(context, s.decal_buffer, decals * sizeof(cl_types::DcDecal));
@@ -352,7 +353,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             if (beauty) {
                 auto* beauty_view = static_cast<float*>(s.beauty.beginUpload(queue));
                 auto* light_view = static_cast<float*>(s.light.beginUpload(queue));
-                packBeautyPlanes(*beauty, beauty_view, light_view);
+                packBeautyPlanes(*beauty, fold_light, beauty_view, light_view);
                 s.beauty.uploadRange(queue, 0, pixels * sizeof(cl_float4));
                 if (light_terms > 0) s.light.uploadRange(queue, 0, light_terms * pixels * sizeof(cl_float4));
                 s.beauty.finishUpload(queue);
