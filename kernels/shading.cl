@@ -154,7 +154,7 @@ inline float dc_decal_weight(__constant const DcFrame* frame, __global const DcD
     return weight;
 }
 
-/* Decal d point-sampled at the pixel centre p. Sets *applied when it changed s. */
+/* Decal d point-sampled at the pixel centre p. Sets *applied when the decal reaches p. */
 DC_INLINE DcSurface dc_point_decal(__constant const DcFrame* frame, __global const DcDecal* d, float3 p,
                                    float3 normal, int has_normal, float3 p_dx, float3 p_dy, int footprint, int x,
                                    int y, __global const float* mask_weights, __global const uint* occlusion_maps,
