@@ -295,7 +295,7 @@ __kernel void dc_bin_count(__constant const DcFrame* frame, __global const DcDec
     const int begin = coarse_offsets[c], end = min(coarse_offsets[c + 1], coarse_capacity);
     float2 range = tile_depth[tile];
     int n = 0;
-    if (range.x <= range.y) { /* else no surface pixel to shade */
+    if (begin < end && range.x <= range.y) { /* else no candidate, or no surface pixel to shade */
         const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x;
         const int apron = dc_depth_apron(frame);
         for (int ny = max(0, ty - apron); ny <= min(frame->tiles_y - 1, ty + apron); ++ny)
