@@ -213,9 +213,10 @@ typedef struct {
     int valid;
 } DcTileHull;
 
+/* `range`: the tile's view depths, not empty. */
 inline DcTileHull dc_tile_hull(__constant const DcFrame* f, int tx, int ty, float2 range) {
     DcTileHull h;
-    h.valid = f->filter_taps == 0 && f->depth_convention != DC_DEPTH_POSITION && range.x <= range.y;
+    h.valid = f->filter_taps == 0 && f->depth_convention != DC_DEPTH_POSITION;
     h.radius = 0.0f;
     if (!h.valid) return h;
     /* the pixel centres lie half a pixel inside the tile's edges; depths get the bounds' slack */
@@ -224,7 +225,8 @@ inline DcTileHull dc_tile_hull(__constant const DcFrame* f, int tx, int ty, floa
     const float z0 = fmax(range.x - fabs(range.x) * DC_DEPTH_SLACK_REL - DC_DEPTH_SLACK_ABS, 0.0f);
     const float z1 = range.y + fabs(range.y) * DC_DEPTH_SLACK_REL + DC_DEPTH_SLACK_ABS;
     for (int i = 0; i < 8; ++i) {
-        h.corner[i] = dc_point_at_view_depth(f, (i & 1) ? x1 : x0, (i & 2) ? y1 : y0, (i & 4) ? z1 : z0);
+        const float2 ndc = dc_ndc_at(f, (i & 1) ? x1 : x0, (i & 2) ? y1 : y0);
+        h.corner[i] = dc_point_at_view_depth(f, ndc, (i & 4) ? z1 : z0);
         h.radius = fmax(h.radius, length(h.corner[i]));
     }
     h.valid = !isnan(h.radius) && !isinf(h.radius);
@@ -272,13 +274,15 @@ inline bool dc_hull_misses(__global const DcDecal* d, const DcTileHull* h) {
 }
 
 /* Level 2: one work-item per tile over its coarse tile's list. The count pass tests each entry
- * and leaves one flag per (tile of the coarse tile, entry) in `listed`, at
- * DC_COARSE_TILES^2 flags per entry: the fill pass then reads the flags instead of testing again. */
-inline int dc_tile_in_coarse(__constant const DcFrame* frame, int tile) {
+ * and leaves one flag per (entry, tile of the coarse tile) in `listed`: the fill pass then reads
+ * the flags instead of testing again. */
+inline size_t dc_listed_flag(__constant const DcFrame* frame, int entry, int tile) {
     const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x;
-    return (ty % DC_COARSE_TILES) * DC_COARSE_TILES + tx % DC_COARSE_TILES;
+    return (size_t)entry * (DC_COARSE_TILES * DC_COARSE_TILES) + (ty % DC_COARSE_TILES) * DC_COARSE_TILES +
+           tx % DC_COARSE_TILES;
 }
 
+/* The coarse tile holding `tile`. */
 inline int dc_coarse_of_tile(__constant const DcFrame* frame, int tile) {
     const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x;
     return (ty / DC_COARSE_TILES) * dc_coarse_tiles_x(frame) + tx / DC_COARSE_TILES;
@@ -290,29 +294,29 @@ __kernel void dc_bin_count(__constant const DcFrame* frame, __global const DcDec
                            __global uchar* listed, __global int* counts) {
     const int tile = get_global_id(0);
     if (tile >= frame->tiles_x * frame->tiles_y) return;
-    const int c = dc_coarse_of_tile(frame, tile), slot = dc_tile_in_coarse(frame, tile);
+    const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x, c = dc_coarse_of_tile(frame, tile);
     /* an overflowed coarse list is read only up to its capacity: the frame runs again anyway */
     const int begin = coarse_offsets[c], end = min(coarse_offsets[c + 1], coarse_capacity);
     float2 range = tile_depth[tile];
-    int n = 0;
-    if (begin < end && range.x <= range.y) { /* else no candidate, or no surface pixel to shade */
-        const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x;
+    const bool surface = range.x <= range.y; /* else no pixel to shade, and nothing listed */
+    DcTileHull hull;
+    hull.valid = 0;
+    if (surface && begin < end) {
         const int apron = dc_depth_apron(frame);
         for (int ny = max(0, ty - apron); ny <= min(frame->tiles_y - 1, ty + apron); ++ny)
             for (int nx = max(0, tx - apron); nx <= min(frame->tiles_x - 1, tx + apron); ++nx) {
                 const float2 t = tile_depth[ny * frame->tiles_x + nx];
                 range = (float2)(fmin(range.x, t.x), fmax(range.y, t.y));
             }
-        const DcTileHull hull = dc_tile_hull(frame, tx, ty, range);
-        for (int k = begin; k < end; ++k) {
-            const int d = coarse_lists[k];
-            const bool in = dc_overlaps(bounds[d], tx, ty, tx, ty, range) &&
-                            !(hull.valid && decals[d].rest_binding < 0 && dc_hull_misses(&decals[d], &hull));
-            listed[(size_t)k * (DC_COARSE_TILES * DC_COARSE_TILES) + slot] = in ? 1 : 0;
-            n += in ? 1 : 0;
-        }
-    } else {
-        for (int k = begin; k < end; ++k) listed[(size_t)k * (DC_COARSE_TILES * DC_COARSE_TILES) + slot] = 0;
+        hull = dc_tile_hull(frame, tx, ty, range);
+    }
+    int n = 0;
+    for (int k = begin; k < end; ++k) {
+        const int d = coarse_lists[k];
+        const bool in = surface && dc_overlaps(bounds[d], tx, ty, tx, ty, range) &&
+                        !(hull.valid && decals[d].rest_binding < 0 && dc_hull_misses(&decals[d], &hull));
+        listed[dc_listed_flag(frame, k, tile)] = in ? 1 : 0;
+        n += in ? 1 : 0;
     }
     counts[tile] = n;
 }
@@ -323,9 +327,9 @@ __kernel void dc_bin_fill(__constant const DcFrame* frame, __global const int* c
                           __global const int* offsets, __global int* tile_decals, int capacity) {
     const int tile = get_global_id(0);
     if (tile >= frame->tiles_x * frame->tiles_y) return;
-    const int c = dc_coarse_of_tile(frame, tile), slot = dc_tile_in_coarse(frame, tile);
+    const int c = dc_coarse_of_tile(frame, tile);
     const int begin = coarse_offsets[c], end = min(coarse_offsets[c + 1], coarse_capacity);
     int next = offsets[tile];
     for (int k = begin; k < end && next < capacity; ++k)
-        if (listed[(size_t)k * (DC_COARSE_TILES * DC_COARSE_TILES) + slot]) tile_decals[next++] = coarse_lists[k];
+        if (listed[dc_listed_flag(frame, k, tile)]) tile_decals[next++] = coarse_lists[k];
 }

@@ -6,15 +6,31 @@
 #include "shared_types.h"
 #include "matrix.h"
 
-/* NDC of the centre of data-window pixel (x, y); row 0 is the top row. */
+/* NDC of data-window position (px, py), in pixels from the window's top-left corner; row 0 is the
+ * top row. */
+inline float2 dc_ndc_at(__constant const DcFrame* f, float px, float py) {
+    return (float2)(2.0f * (px + (float)f->origin_x) / (float)f->display_width - 1.0f,
+                    1.0f - 2.0f * (py + (float)f->origin_y) / (float)f->display_height);
+}
+
+/* NDC of the centre of data-window pixel (x, y). */
 inline float2 dc_pixel_ndc(__constant const DcFrame* f, int x, int y) {
-    return (float2)(2.0f * ((float)(x + f->origin_x) + 0.5f) / (float)f->display_width - 1.0f,
-                    1.0f - 2.0f * ((float)(y + f->origin_y) + 0.5f) / (float)f->display_height);
+    return dc_ndc_at(f, (float)x + 0.5f, (float)y + 0.5f);
 }
 
 inline float3 dc_unproject(__constant const DcFrame* f, float2 ndc, float ndc_z) {
     const float4 c = dc_mul4_constant(f->inv_projection, (float4)(ndc, ndc_z, 1.0f));
     return c.xyz / c.w;
+}
+
+/* The camera-space point at view depth z (-z in camera space) on the ray through `ndc`. */
+inline float3 dc_point_at_view_depth(__constant const DcFrame* f, float2 ndc, float z) {
+    if (f->orthographic) {
+        const float3 a = dc_unproject(f, ndc, -1.0f);
+        return (float3)(a.x, a.y, -z);
+    }
+    const float3 q = dc_unproject(f, ndc, 0.0f); /* on the ray, in front: finite with an infinite far plane */
+    return q * (z / -q.z);
 }
 
 /* A world-space direction in camera space (the linear part of world_to_camera). */
@@ -52,13 +68,8 @@ inline bool dc_reconstruct(__constant const DcFrame* f, __global const float* de
         p = dc_unproject(f, ndc, ndc_z);
     } else {
         if (dc_is_background_depth(d)) return false;
-        if (f->orthographic) {
-            const float3 a = dc_unproject(f, ndc, -1.0f);
-            p = (float3)(a.x, a.y, -d);
-        } else {
-            const float3 q = dc_unproject(f, ndc, 0.0f); /* on the pixel's ray, in front: finite with an infinite far plane */
-            p = (f->depth_convention == DC_DEPTH_RADIAL) ? normalize(q) * d : q * (d / -q.z);
-        }
+        p = f->depth_convention == DC_DEPTH_RADIAL && !f->orthographic ? normalize(dc_unproject(f, ndc, 0.0f)) * d
+                                                                         : dc_point_at_view_depth(f, ndc, d);
     }
     if (!f->orthographic && !(-p.z >= DC_MIN_VIEW_DEPTH)) return false;
     if (f->far_plane > 0.0f && -p.z > f->far_plane) return false;
@@ -85,19 +96,6 @@ inline bool dc_view_depth(__constant const DcFrame* f, __global const float* dep
     if (!dc_reconstruct(f, depth_plane, position_plane, x, y, &p)) return false;
     *z_out = -p.z;
     return true;
-}
-
-/* The camera-space point at view depth z (-z in camera space) on the ray through data-window
- * position (px, py), in pixels from the window's top-left corner (pixel centres are at + 0.5). */
-inline float3 dc_point_at_view_depth(__constant const DcFrame* f, float px, float py, float z) {
-    const float2 ndc = (float2)(2.0f * (px + (float)f->origin_x) / (float)f->display_width - 1.0f,
-                                1.0f - 2.0f * (py + (float)f->origin_y) / (float)f->display_height);
-    if (f->orthographic) {
-        const float3 a = dc_unproject(f, ndc, -1.0f);
-        return (float3)(a.x, a.y, -z);
-    }
-    const float3 q = dc_unproject(f, ndc, 0.0f);
-    return q * (z / -q.z);
 }
 
 /* The ray through the centre of pixel (x, y): origin + t dir, t > 0 in front of the camera. */
