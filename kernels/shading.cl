@@ -26,6 +26,21 @@ inline DcTaps dc_point_taps(void) {
     return t;
 }
 
+/* Decal d at the filter tap pt on `plane`, whose stratum spans the decal-local vectors su, sv,
+ * blended into `out` where it reaches the tap. Sets *touched when it does. */
+DC_INLINE DcSurface dc_tap_decal(__constant const DcFrame* frame, __global const DcDecal* d, const DcTapPlane* plane,
+                                 float3 pt, float3 su, float3 sv, int has_normal, float weight,
+                                 __global const DcTexture* textures, __global const float4* texels,
+                                 __global const uint* occlusion_maps, DcSurface out, const int variant,
+                                 int* touched) {
+    const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
+    const DcLookup lk = dc_decal_lookup_at(d, pt, plane->n, has_normal, pt, pt, 1, 1, su, sv);
+    if (!(lk.fade > 0.0f)) return out;
+    if (!albedo_only && d->occlusion_map >= 0 && !dc_blast_reaches(d, occlusion_maps, pt, plane->n)) return out;
+    *touched = 1;
+    return dc_apply_decal(frame, d, lk, textures, texels, weight, plane->n, out, variant);
+}
+
 /* Decal d integrated over the pixel filter's taps on `plane` (docs/pixel-filter.md): each tap
  * blends the decal into s as it stands, and the result is their weighted mean, linear in the
  * decal's coverage as the renderer's filter is. Sets *applied when some tap reached the decal. */
@@ -34,7 +49,6 @@ DC_INLINE DcSurface dc_filter_decal(__constant const DcFrame* frame, __global co
                                     __global const DcTexture* textures, __global const float4* texels,
                                     __global const uint* occlusion_maps, DcSurface s, const int variant,
                                     int* applied) {
-    const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
     if (!dc_filter_may_reach(d, plane)) return s;
     const float3 su = dc_camera_to_local_vector(d, plane->du) * frame->filter_step;
     const float3 sv = dc_camera_to_local_vector(d, plane->dv) * frame->filter_step;
@@ -45,16 +59,136 @@ DC_INLINE DcSurface dc_filter_decal(__constant const DcFrame* frame, __global co
             DcSurface out = s;
             float3 pt;
             const float w = frame->filter_weight[i] * frame->filter_weight[j];
-            if (dc_tap_point(rays, plane, frame->filter_offset[i], frame->filter_offset[j], &pt)) {
-                const DcLookup lk = dc_decal_lookup_at(d, pt, plane->n, has_normal, pt, pt, 1, 1, su, sv);
-                if (lk.fade > 0.0f &&
-                    (albedo_only || d->occlusion_map < 0 || dc_blast_reaches(d, occlusion_maps, pt, plane->n))) {
-                    out = dc_apply_decal(frame, d, lk, textures, texels, weight, plane->n, s, variant);
-                    touched = 1;
-                }
-            }
+            if (dc_tap_point(rays, plane, frame->filter_offset[i], frame->filter_offset[j], &pt))
+                out = dc_tap_decal(frame, d, plane, pt, su, sv, has_normal, weight, textures, texels, occlusion_maps, s,
+                                   variant, &touched);
             acc = dc_surface_add_scaled(acc, out, w);
         }
+    if (!touched) return s;
+    if (acc.normal_changed && length(acc.normal) > 1e-6f) acc.normal = normalize(acc.normal);
+    *applied = 1;
+    return acc;
+}
+
+/* The decal's opacity times its mask's weight at the pixel. */
+inline float dc_decal_weight(__constant const DcFrame* frame, __global const DcDecal* d,
+                             __global const float* mask_weights, int x, int y) {
+    float weight = d->opacity;
+    if (d->mask >= 0) weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
+    return weight;
+}
+
+/* Entries of a tile's list whose reach is kept in a bit mask; later ones are tested per tap. */
+#define DC_STACK_MASK_ENTRIES 64
+
+/* Which of the list's first DC_STACK_MASK_ENTRIES entries from `begin` may reach a tap on `plane`:
+ * the footprint's bounding sphere against each decal once per pixel, not once per tap. */
+inline ulong dc_reach_mask(__global const DcDecal* decals, __global const int* tile_decals, int binned, int begin,
+                           int end, const DcTapPlane* plane) {
+    ulong reach = 0;
+    for (int k = begin; k < min(end, begin + DC_STACK_MASK_ENTRIES); ++k)
+        if (dc_filter_may_reach(&decals[binned ? tile_decals[k] : k], plane)) reach |= (ulong)1 << (k - begin);
+    return reach;
+}
+
+/* The list's decals [begin, end) that reach the tap at pt on `plane`, blended in list order into
+ * `out` (entries in the mask `reach` as dc_reach_mask gives it; later ones tested here). Sets
+ * *touched when one did. */
+DC_INLINE DcSurface dc_stack_decals(__constant const DcFrame* frame, __global const DcDecal* decals,
+                                    __global const int* tile_decals, int binned, int begin, int end, ulong reach,
+                                    const DcTapPlane* plane, float3 pt, int has_normal, int x, int y,
+                                    __global const float* mask_weights, __global const DcTexture* textures,
+                                    __global const float4* texels, __global const uint* occlusion_maps,
+                                    DcSurface out, const int variant, int* touched) {
+    for (int k = begin; k < end; ++k) {
+        __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
+        if (k - begin < DC_STACK_MASK_ENTRIES ? ((reach >> (k - begin)) & 1) == 0 : !dc_filter_may_reach(d, plane))
+            continue;
+        out = dc_tap_decal(frame, d, plane, pt, dc_camera_to_local_vector(d, plane->du) * frame->filter_step,
+                           dc_camera_to_local_vector(d, plane->dv) * frame->filter_step, has_normal,
+                           dc_decal_weight(frame, d, mask_weights, x, y), textures, texels, occlusion_maps, out,
+                           variant, touched);
+    }
+    return out;
+}
+
+/* The tile's decals [begin, end) integrated over the pixel filter's taps on `plane`, stacked per
+ * tap (docs/pixel-filter.md step 3): each tap starts from the pixel's material and blends every
+ * decal that reaches it in list order, and the pixel takes the taps' weighted mean. Where decal
+ * edges cross inside one footprint this is what the renderer's average gives; a decal alone
+ * gives the same as one filtered decal at a time. Sets *applied when some tap reached a decal. */
+DC_INLINE DcSurface dc_filter_stacked(__constant const DcFrame* frame, __global const DcDecal* decals,
+                                      __global const int* tile_decals, int binned, int begin, int end,
+                                      const DcTapRays* rays, const DcTapPlane* plane, int has_normal, int x, int y,
+                                      __global const float* mask_weights, __global const DcTexture* textures,
+                                      __global const float4* texels, __global const uint* occlusion_maps,
+                                      DcSurface s, const int variant, int* applied) {
+    const ulong reach = dc_reach_mask(decals, tile_decals, binned, begin, end, plane);
+    if (reach == 0 && end - begin <= DC_STACK_MASK_ENTRIES) return s;
+    DcSurface acc = dc_surface_add_scaled(s, s, -1.0f);
+    int touched = 0;
+    for (int j = 0; j < frame->filter_taps; ++j)
+        for (int i = 0; i < frame->filter_taps; ++i) {
+            DcSurface out = s;
+            float3 pt;
+            if (dc_tap_point(rays, plane, frame->filter_offset[i], frame->filter_offset[j], &pt))
+                out = dc_stack_decals(frame, decals, tile_decals, binned, begin, end, reach, plane, pt, has_normal, x,
+                                      y, mask_weights, textures, texels, occlusion_maps, out, variant, &touched);
+            acc = dc_surface_add_scaled(acc, out, frame->filter_weight[i] * frame->filter_weight[j]);
+        }
+    if (!touched) return s;
+    if (acc.normal_changed && length(acc.normal) > 1e-6f) acc.normal = normalize(acc.normal);
+    *applied = 1;
+    return acc;
+}
+
+/* The material of one side of a split pixel, as DcTaps keeps it. */
+inline DcSurface dc_split_material(const DcTaps* taps, int side, DcSurface s) {
+    s.albedo = taps->material[side].xyz;
+    s.roughness = taps->material[side].w;
+    s.metallic = taps->metallic[side];
+    s.normal = taps->normal[side];
+    return s;
+}
+
+/* The split pixel's version of dc_filter_stacked (docs/pixel-filter.md "Silhouettes"): each tap's
+ * share on each surface starts from that surface's material and blends every decal reaching it in
+ * list order; the pixel keeps its mix and adds each share's change. */
+DC_INLINE DcSurface dc_filter_stacked_split(__constant const DcFrame* frame, __global const DcDecal* decals,
+                                            __global const int* tile_decals, int binned, int begin, int end,
+                                            const DcTaps* taps, int has_normal, int x, int y,
+                                            __global const float* mask_weights, __global const DcTexture* textures,
+                                            __global const float4* texels, __global const uint* occlusion_maps,
+                                            DcSurface s, const int variant, int* applied) {
+    const ulong reach_near = dc_reach_mask(decals, tile_decals, binned, begin, end, &taps->plane);
+    const ulong reach_far = dc_reach_mask(decals, tile_decals, binned, begin, end, &taps->other);
+    if ((reach_near | reach_far) == 0 && end - begin <= DC_STACK_MASK_ENTRIES) return s;
+    DcSurface acc = s;
+    int touched = 0;
+    for (int side = 0; side < 2; ++side) {
+        const DcTapPlane* plane = side ? &taps->other : &taps->plane;
+        const DcSurface base = dc_split_material(taps, side, s);
+        DcSurface sum = dc_surface_add_scaled(base, base, -1.0f);
+        float total = 0.0f;
+        for (int j = 0; j < frame->filter_taps; ++j)
+            for (int i = 0; i < frame->filter_taps; ++i) {
+                const float u = frame->filter_offset[i], v = frame->filter_offset[j];
+                const float near = dc_tap_share(taps, u, v);
+                const float share = side ? 1.0f - near : near;
+                if (!(share > 0.0f)) continue;
+                DcSurface out = base;
+                float3 pt;
+                if (dc_tap_point(&taps->rays, plane, u, v, &pt))
+                    out = dc_stack_decals(frame, decals, tile_decals, binned, begin, end, side ? reach_far : reach_near,
+                                          plane, pt, has_normal, x, y, mask_weights, textures, texels, occlusion_maps,
+                                          out, variant, &touched);
+                const float w = frame->filter_weight[i] * frame->filter_weight[j] * share;
+                sum = dc_surface_add_scaled(sum, out, w);
+                total += w;
+            }
+        /* s + sum (w share (out - base)) */
+        if (total > 0.0f) acc = dc_surface_add_scaled(dc_surface_add_scaled(acc, sum, 1.0f), base, -total);
+    }
     if (!touched) return s;
     if (acc.normal_changed && length(acc.normal) > 1e-6f) acc.normal = normalize(acc.normal);
     *applied = 1;
@@ -71,7 +205,6 @@ DC_INLINE DcSurface dc_filter_split_side(__constant const DcFrame* frame, __glob
                                          __global const DcTexture* textures, __global const float4* texels,
                                          __global const uint* occlusion_maps, const int variant, float* total,
                                          int* touched) {
-    const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
     const float3 su = dc_camera_to_local_vector(d, plane->du) * frame->filter_step;
     const float3 sv = dc_camera_to_local_vector(d, plane->dv) * frame->filter_step;
     DcSurface sum = dc_surface_add_scaled(base, base, -1.0f);
@@ -84,27 +217,13 @@ DC_INLINE DcSurface dc_filter_split_side(__constant const DcFrame* frame, __glob
             const float w = frame->filter_weight[i] * frame->filter_weight[j] * share;
             DcSurface out = base;
             float3 pt;
-            if (dc_tap_point(&taps->rays, plane, u, v, &pt)) {
-                const DcLookup lk = dc_decal_lookup_at(d, pt, plane->n, has_normal, pt, pt, 1, 1, su, sv);
-                if (lk.fade > 0.0f &&
-                    (albedo_only || d->occlusion_map < 0 || dc_blast_reaches(d, occlusion_maps, pt, plane->n))) {
-                    out = dc_apply_decal(frame, d, lk, textures, texels, weight, plane->n, base, variant);
-                    *touched = 1;
-                }
-            }
+            if (dc_tap_point(&taps->rays, plane, u, v, &pt))
+                out = dc_tap_decal(frame, d, plane, pt, su, sv, has_normal, weight, textures, texels, occlusion_maps,
+                                   base, variant, touched);
             sum = dc_surface_add_scaled(sum, out, w);
             *total += w;
         }
     return sum;
-}
-
-/* The material of one side of a split pixel, as DcTaps keeps it. */
-inline DcSurface dc_split_material(const DcTaps* taps, int side, DcSurface s) {
-    s.albedo = taps->material[side].xyz;
-    s.roughness = taps->material[side].w;
-    s.metallic = taps->metallic[side];
-    s.normal = taps->normal[side];
-    return s;
 }
 
 /* Decal d at a split pixel: each surface's taps blend it into that surface's material; the pixel
@@ -144,14 +263,6 @@ DC_INLINE DcSurface dc_filter_decal_split(__constant const DcFrame* frame, __glo
     }
     *applied = 1;
     return acc;
-}
-
-/* The decal's opacity times its mask's weight at the pixel. */
-inline float dc_decal_weight(__constant const DcFrame* frame, __global const DcDecal* d,
-                             __global const float* mask_weights, int x, int y) {
-    float weight = d->opacity;
-    if (d->mask >= 0) weight *= mask_weights[(size_t)d->mask * frame->width * frame->height + y * frame->width + x];
-    return weight;
 }
 
 /* Decal d point-sampled at the pixel centre p. Sets *applied when the decal reaches p. */
@@ -235,6 +346,12 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                 s = dc_point_decal(frame, &decals[binned ? tile_decals[k] : k], p, normal, has_normal, p_dx, p_dy,
                                    footprint, x, y, mask_weights, occlusion_maps, textures, texels, s, variant,
                                    &applied);
+        } else if (taps.mode == DC_TAPS_PLANE && !frame->rest_decals) {
+            s = dc_filter_stacked(frame, decals, tile_decals, binned, begin, end, &taps.rays, &taps.plane, has_normal,
+                                  x, y, mask_weights, textures, texels, occlusion_maps, s, variant, &applied);
+        } else if (taps.mode == DC_TAPS_SPLIT && !frame->rest_decals) {
+            s = dc_filter_stacked_split(frame, decals, tile_decals, binned, begin, end, &taps, has_normal, x, y,
+                                        mask_weights, textures, texels, occlusion_maps, s, variant, &applied);
         } else {
             for (int k = begin; k < end; ++k) {
                 __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];

@@ -611,7 +611,8 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
             blast_maps[k].emplace(scene.decals[k], frame, camera, [&, k](const glm::dvec3& P) { return slackAt(k, P); });
     // Texture-space decals: one rest pass per (mesh, object mask) pair.
     std::map<std::pair<int, int>, RestPixels> rest;
-    if (hasTextureSpaceDecals(scene)) {
+    const bool texture_space = hasTextureSpaceDecals(scene);
+    if (texture_space) {
         std::vector<std::optional<glm::dvec3>> world_normals;
         if (has_normal)
             for (std::size_t i = 0; i < frame.pixelCount(); ++i) world_normals.push_back(decodedNormal(frame, camera, i));
@@ -647,29 +648,113 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                     if (split.ambiguous) result.ambiguous[i] = 1;
                 }
             }
-            for (std::size_t k = 0; k < scene.decals.size(); ++k) {
+            auto has = [&](DecalTarget t) { return frame.has(kTargetAttributes[int(t)]); };
+            // Decal k's opacity times its mask's weight at the pixel.
+            auto decalWeight = [&](std::size_t k) {
+                const Decal& decal = scene.decals[k];
+                return decal.mask >= 0 ? decal.opacity * frame.mask_weights[std::size_t(decal.mask)].at(i, 0)
+                                       : decal.opacity;
+            };
+            // Decal k's textures at a hit (`ambiguous` notes nearest lookups at texel edges).
+            auto decalValues = [&](std::size_t k, const DecalHit& hit, double slack, bool& ambiguous) {
+                const Decal& decal = scene.decals[k];
+                auto texel = [&](int texture) {
+                    if (texture < 0) return std::optional<glm::dvec4>();
+                    return std::optional<glm::dvec4>(hitTexel(hit, decal, scene.textures[std::size_t(texture)],
+                                                              chains[std::size_t(texture)], slack, ambiguous));
+                };
+                DecalValues values;
+                values.albedo = texel(decal.albedo_texture);
+                values.normal = texel(decal.normal_texture);
+                values.orm = texel(decal.orm_texture);
+                values.emission = texel(decal.emission_texture);
+                values.facing = hit.facing;
+                values.right = hit.right;
+                values.up = hit.up;
+                return values;
+            };
+            // On one tangent plane every tap blends every decal in order into the pixel's material,
+            // and the pixel takes the taps' mean under the filter's weights (kernels:
+            // dc_filter_stacked). Frames with texture-space decals keep one filtered decal at a time.
+            const bool stacked = (taps.valid || split.valid) && !texture_space;
+            // The decals that reach the tap at pixel offset (u, v) on the plane through `point` with
+            // normal n, blended in order into `out`; whether any did.
+            auto stackDecals = [&](double u, double v, const glm::dvec3& point, const glm::dvec3& n,
+                                   const glm::dvec3& du, const glm::dvec3& dv, Surface& out) {
+                const auto tap = rayOnPlane(frame, camera, inverse_projection, x + u, y + v, point, n);
+                bool touched = false;
+                for (std::size_t k = 0; tap && k < scene.decals.size(); ++k) {
+                    const glm::dmat3 to_local(world_to_local[k]);
+                    const Stratum stratum{to_local * (du * quadrature.step), to_local * (dv * quadrature.step)};
+                    const double slack = slackAt(k, *p);
+                    const DecalHit hit = hitDecal(scene.decals[k], world_to_local[k], *tap, n, {}, slack, &stratum);
+                    if (hit.ambiguous && !(hit.fade > 0.0)) result.ambiguous[i] = 1;  // just outside
+                    bool reaches = hit.fade > 0.0;
+                    if (reaches && blast_maps[k]) {
+                        const BlastVisibility vis = blast_maps[k]->test(*tap, n, slack);
+                        if (vis.ambiguous) result.ambiguous[i] = 1;
+                        reaches = vis.reaches;
+                    }
+                    if (!reaches) continue;
+                    bool ambiguous = hit.ambiguous;
+                    applyDecal(scene.decals[k], decalValues(k, hit, slack, ambiguous), hit.fade * decalWeight(k), n,
+                               has, out);
+                    if (ambiguous) result.ambiguous[i] = 1;
+                    touched = true;
+                }
+                return touched;
+            };
+            if (stacked && split.valid) {
+                // each tap's share on each surface starts from that surface's material; the pixel
+                // keeps its mix and adds each share's change (kernels: dc_filter_stacked_split)
+                Surface sum = surface;
+                bool touched = false;
+                for (int sd = 0; sd < 2; ++sd) {
+                    Surface base = surface;
+                    base.albedo = split.material[sd].albedo;
+                    base.roughness = split.material[sd].roughness;
+                    base.metallic = split.material[sd].metallic;
+                    base.normal = split.material[sd].normal;
+                    for (std::size_t j = 0; j < quadrature.offsets.size(); ++j)
+                        for (std::size_t t = 0; t < quadrature.offsets.size(); ++t) {
+                            const double u = quadrature.offsets[t], v = quadrature.offsets[j];
+                            const double near_share = split.nearShare(u, v);
+                            const double share = sd == 0 ? near_share : 1.0 - near_share;
+                            if (!(share > 0.0)) continue;
+                            Surface out = base;
+                            touched |= stackDecals(u, v, split.point[sd], split.normal[sd], split.plane[sd].du,
+                                                   split.plane[sd].dv, out);
+                            const double w = quadrature.weights[t] * quadrature.weights[j] * share;
+                            addWeighted(sum, out, w);
+                            addWeighted(sum, base, -w);
+                        }
+                }
+                if (touched) {
+                    if (sum.normal_changed && glm::length(sum.normal) > 1e-6) sum.normal = glm::normalize(sum.normal);
+                    surface = sum;
+                }
+            } else if (stacked) {
+                Surface sum;
+                sum.normal = glm::dvec3(0.0);
+                sum.normal_changed = surface.normal_changed;
+                bool touched = false;
+                for (std::size_t j = 0; j < quadrature.offsets.size(); ++j)
+                    for (std::size_t t = 0; t < quadrature.offsets.size(); ++t) {
+                        Surface out = surface;
+                        touched |= stackDecals(quadrature.offsets[t], quadrature.offsets[j], *p, *normal, taps.du,
+                                               taps.dv, out);
+                        addWeighted(sum, out, quadrature.weights[t] * quadrature.weights[j]);
+                    }
+                if (touched) {
+                    if (sum.normal_changed && glm::length(sum.normal) > 1e-6) sum.normal = glm::normalize(sum.normal);
+                    surface = sum;
+                }
+            }
+            for (std::size_t k = 0; !stacked && k < scene.decals.size(); ++k) {
                 const Decal& decal = scene.decals[k];
                 const double slack = slackAt(k, *p);
-                double weight = decal.opacity;
-                if (decal.mask >= 0) weight *= frame.mask_weights[std::size_t(decal.mask)].at(i, 0);
-                auto has = [&](DecalTarget t) { return frame.has(kTargetAttributes[int(t)]); };
-                // The decal's textures at a hit (`ambiguous` notes nearest lookups at texel edges).
-                auto valuesAt = [&](const DecalHit& hit, bool& ambiguous) {
-                    auto texel = [&](int texture) {
-                        if (texture < 0) return std::optional<glm::dvec4>();
-                        return std::optional<glm::dvec4>(hitTexel(hit, decal, scene.textures[std::size_t(texture)],
-                                                                  chains[std::size_t(texture)], slack, ambiguous));
-                    };
-                    DecalValues values;
-                    values.albedo = texel(decal.albedo_texture);
-                    values.normal = texel(decal.normal_texture);
-                    values.orm = texel(decal.orm_texture);
-                    values.emission = texel(decal.emission_texture);
-                    values.facing = hit.facing;
-                    values.right = hit.right;
-                    values.up = hit.up;
-                    return values;
-                };
+                const double weight = decalWeight(k);
+                auto valuesAt = [&](const DecalHit& hit, bool& ambiguous) { return decalValues(k, hit, slack, ambiguous); };
                 if (decal.space == DecalSpace::ObjectRest) {
                     const RestPixels& r = rest.at({decal.rest_mesh, decal.mask});
                     if (r.ambiguous[i]) result.ambiguous[i] = 1;
@@ -808,8 +893,8 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                     continue;
                 }
                 if (taps.valid) {
-                    // each tap blends the decal into the material as it stands before this decal;
-                    // the pixel takes their mean under the filter's weights
+                    // (texture-space frames) each tap blends the decal into the material as it
+                    // stands before this decal; the pixel takes their mean under the filter's weights
                     const glm::dmat3 to_local(world_to_local[k]);
                     const std::vector<double>& offsets = quadrature.offsets;
                     const std::vector<double>& weights = quadrature.weights;
