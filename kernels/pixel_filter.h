@@ -247,6 +247,131 @@ inline void dc_split_silhouette(__constant const DcFrame* f, __global const floa
     *t = s;
 }
 
+/* Creases (docs/pixel-filter.md "Creases"): a pixel whose normal pass is shorter than
+ * DC_MIXED_NORMAL_LENGTH without a depth jump averages two faces meeting at an edge. Its taps go to
+ * the planes of the faces' nearest clean pixels (continuous depth and a unit normal), split along
+ * the edge itself: the image of the line where the two planes meet. */
+#define DC_CLEAN_NORMAL_LENGTH 0.999f
+/* the faces' normals turn by more than about 11 degrees */
+#define DC_CREASE_FACE_COS 0.98f
+/* and each face's clean normals agree within about 2.6 degrees: curved surfaces are not creases */
+#define DC_CREASE_FLAT_COS 0.999f
+/* how far the split's mix of the faces' normals may miss the pixel's normal */
+#define DC_CREASE_NORMAL_FIT 0.15f
+
+/* The two faces around pixel (x, y) whose mixed normal pass is `mix`: their world normals and
+ * nearest clean pixels. Pass 0 takes the clean normal turned furthest from the mix, pass 1 the one
+ * turned furthest from that, pass 2 gives each clean pixel to the nearer of the two. False where
+ * the window holds no such two flat faces. */
+inline bool dc_crease_faces(__constant const DcFrame* f, __global const float* depth_plane,
+                            __global const float4* position_plane, __global const float4* original1, int x, int y,
+                            float3 mix, float3 face[2], int2 px[2]) {
+    const int window = clamp((int)ceil(f->filter_radius + 0.5f) + 1, 2, DC_SPLIT_WINDOW);
+    int best_d2[2] = {1 << 20, 1 << 20};
+    for (int pass = 0; pass < 3; ++pass) {
+        const float3 from = pass == 0 ? normalize(mix) : face[0];
+        float3 pick = from;
+        float least = 2.0f;
+        for (int dy = -window; dy <= window; ++dy)
+            for (int dx = -window; dx <= window; ++dx) {
+                const int nx = x + dx, ny = y + dy;
+                float zq;
+                if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= f->width || ny >= f->height) continue;
+                const float3 n = original1[(size_t)ny * f->width + nx].xyz;
+                if (!(fabs(length(n) - 1.0f) <= 1.0f - DC_CLEAN_NORMAL_LENGTH) ||
+                    !dc_view_depth(f, depth_plane, position_plane, nx, ny, &zq) ||
+                    !dc_clean_pixel(f, depth_plane, position_plane, nx, ny, zq))
+                    continue;
+                if (pass < 2) {
+                    const float c = dot(n, from);
+                    if (c < least) { least = c; pick = n; }
+                    continue;
+                }
+                const int side = dot(n, face[1]) > dot(n, face[0]) ? 1 : 0;
+                if (!(dot(n, face[side]) >= DC_CREASE_FLAT_COS * length(n))) return false;
+                const int d2 = dx * dx + dy * dy;
+                if (d2 < best_d2[side]) { best_d2[side] = d2; px[side] = (int2)(nx, ny); }
+            }
+        if (pass == 2) break;
+        if (!(least < 2.0f)) return false;
+        face[pass] = normalize(pick);
+    }
+    return dot(face[0], face[1]) < DC_CREASE_FACE_COS && best_d2[0] < (1 << 20) && best_d2[1] < (1 << 20);
+}
+
+/* Zero on the image of the line where planes a and b meet; its sign tells which plane the ray at
+ * pixel offset (u, v) meets first (dc_split_crease). Exactly linear in (u, v) for perspective and
+ * orthographic rays. */
+inline float dc_crease_side(const DcTapRays* r, const DcTapPlane* a, const DcTapPlane* b, float u, float v) {
+    const float3 o = r->origin + r->origin_u * u + r->origin_v * v;
+    const float3 d = r->dir + r->dir_u * u + r->dir_v * v;
+    return dot(o - a->p, a->n) * dot(d, b->n) - dot(o - b->p, b->n) * dot(d, a->n);
+}
+
+/* Splits a crease pixel's taps between its two faces (see above); leaves t as it is elsewhere. */
+inline void dc_split_crease(__constant const DcFrame* f, __global const float* depth_plane,
+                            __global const float4* position_plane, __global const float4* original0,
+                            __global const float4* original1, int x, int y, float3 p, DcTaps* t) {
+    const size_t i = (size_t)y * f->width + x;
+    const float3 mix = original1[i].xyz;
+    if (!(length(mix) < DC_MIXED_NORMAL_LENGTH) || !(length(mix) > 0.0f)) return;
+    float3 face[2];
+    int2 px[2];
+    if (!dc_crease_faces(f, depth_plane, position_plane, original1, x, y, mix, face, px)) return;
+    float3 pa, pb;
+    if (!dc_reconstruct(f, depth_plane, position_plane, px[0].x, px[0].y, &pa) ||
+        !dc_reconstruct(f, depth_plane, position_plane, px[1].x, px[1].y, &pb))
+        return;
+    DcTaps s = *t;
+    if (!dc_tap_plane(f, &s.rays, pa, normalize(dc_world_to_camera_vector(f, face[0])), &s.plane) ||
+        !dc_tap_plane(f, &s.rays, pb, normalize(dc_world_to_camera_vector(f, face[1])), &s.other))
+        return;
+    /* both faces pass through the pixel's own point, as one surface does (no depth jump) */
+    if (!(fabs(s.plane.p.z - p.z) <= DC_MIXED_DEPTH_JUMP * fabs(p.z)) ||
+        !(fabs(s.other.p.z - p.z) <= DC_MIXED_DEPTH_JUMP * fabs(p.z)))
+        return;
+    /* the edge's image through the footprint: dc_crease_side linearised at the centre */
+    const float f00 = dc_crease_side(&s.rays, &s.plane, &s.other, 0.0f, 0.0f);
+    const float2 g = (float2)(dc_crease_side(&s.rays, &s.plane, &s.other, 1.0f, 0.0f) - f00,
+                              dc_crease_side(&s.rays, &s.plane, &s.other, 0.0f, 1.0f) - f00);
+    const float len = length(g);
+    if (!(len > 0.0f) || !isfinite(len)) return;
+    float c = -f00 / len;
+    float2 dir = g / len;
+    if (!(fabs(c) <= f->filter_radius)) return; /* the edge misses the footprint */
+    /* dc_crease_side < 0 (face 0's side of the line) where face 0 is the farther plane, when both
+     * face the camera. A ray sees the farther plane across a convex edge and the nearer across a
+     * concave one (face 1's clean point above face 0's plane): flip the line where face 0 is hidden. */
+    const bool concave = dot(pb - pa, s.plane.n) > 0.0f;
+    const bool facing = dot(s.rays.dir, s.plane.n) * dot(s.rays.dir, s.other.n) > 0.0f;
+    if (concave == facing) {
+        dir = -dir;
+        c = -c;
+    }
+    s.split_dir = dir;
+    s.split_width = f->filter_step * (fabs(dir.x) + fabs(dir.y));
+    /* Each face's clean material, both shifted by one offset so that their mix under the filter's
+     * weight on each side is the pixel's own: faces of one material both take the pixel's, and a
+     * textured face keeps the texture under the footprint rather than its neighbour's texel. */
+    const float near_weight = dc_split_weight(f, &s, c) / dc_split_weight(f, &s, MAXFLOAT);
+    /* the faces' normals mixed by the split's weights must give the pixel's: an occluding edge that
+     * merely passes near where the planes would meet fails here */
+    if (!(length(near_weight * face[0] + (1.0f - near_weight) * face[1] - mix) <= DC_CREASE_NORMAL_FIT)) return;
+    const size_t ia = (size_t)px[0].y * f->width + px[0].x, ib = (size_t)px[1].y * f->width + px[1].x;
+    const float4 shift = original0[i] - (near_weight * original0[ia] + (1.0f - near_weight) * original0[ib]);
+    const float metallic_shift =
+        original1[i].w - (near_weight * original1[ia].w + (1.0f - near_weight) * original1[ib].w);
+    s.split_c = c; /* (dc_split_weight moved it) */
+    s.material[0] = original0[ia] + shift;
+    s.material[1] = original0[ib] + shift;
+    s.metallic[0] = original1[ia].w + metallic_shift;
+    s.metallic[1] = original1[ib].w + metallic_shift;
+    s.normal[0] = s.plane.n;
+    s.normal[1] = s.other.n;
+    s.mode = DC_TAPS_SPLIT;
+    *t = s;
+}
+
 /* How pixel (x, y) at p with camera-space unit normal n is integrated (docs/pixel-filter.md
  * "Mixed pixels"): over its own tangent plane, also at silhouettes and creases (whose averaged
  * depth and normal make a plane between the surfaces), but point-sampled beside background and
@@ -273,6 +398,8 @@ inline DcTaps dc_taps(__constant const DcFrame* f, __global const float* depth_p
     t.rays.dir_v = d2 - t.rays.dir;
     if (dc_tap_plane(f, &t.rays, p, n, &t.plane)) t.mode = DC_TAPS_PLANE;
     dc_split_silhouette(f, depth_plane, position_plane, original0, original1, has_normal, x, y, p, &t);
+    if (has_normal && t.mode == DC_TAPS_PLANE)
+        dc_split_crease(f, depth_plane, position_plane, original0, original1, x, y, p, &t);
     return t;
 }
 

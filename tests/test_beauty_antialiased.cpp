@@ -138,8 +138,9 @@ const Measured& measure() {
 }
 
 // Over the decal pixels the rebuilt beauty is far nearer the truth than the untouched one. Measured
-// 36.78 dB rebuilt, 18.88 untouched (17.9 dB apart; 36.85 before silhouettes were split); the albedo
-// itself scores 41.42 dB there (36.73 before). (The
+// 36.84 dB rebuilt, 18.88 untouched (18 dB apart; 36.85 before silhouettes were split); the albedo
+// itself scores 43.68 dB there with decals stacked per tap and creases split (41.42 with split
+// silhouettes alone, 36.73 before). (The
 // pixel's own light at the mixed pixels too scored 41.16 dB, but with 68 pixels worse than untouched;
 // see below.)
 TEST(BeautyAntialiased, RebuiltFarAboveUntouched) {

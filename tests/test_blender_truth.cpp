@@ -155,7 +155,8 @@ TEST(BlenderTruth, AntialiasedFrameMatchesCycles) {
     // Tolerance 0.025 (the 256-spp truth's own noise is about 0.003 rms per channel). Measured over
     // 1404 such pixels: with the averaged plane at silhouettes none (worst 0.0202) at 34.06 dB; with
     // silhouettes split between their surfaces 41.49 dB, and 1 pixel worse, by 0.122 (x 108, y 117,
-    // where a third surface shows between the two the split takes). Their count may not grow.
+    // where a third surface shows between the two the split takes); with creases split too 46.33 dB,
+    // the same pixel worse. Their count may not grow.
     const MixedPixels mixed = compareMixedPixels(test::dataPath("blender-aa/gbuffer.exr"), result,
                                                  readExr(dir.file("point.exr")), truth, 0.025);
     std::printf("mixed pixels: %zu, worse than point-sampled by > 0.025: %zu (worst by %.4f); filtered %.2f dB, "
@@ -165,7 +166,7 @@ TEST(BlenderTruth, AntialiasedFrameMatchesCycles) {
     EXPECT_LE(mixed.worse, 1u);
     EXPECT_LE(mixed.worst_excess, 0.13);
     EXPECT_GT(mixed.filtered_psnr, mixed.point_psnr);
-    EXPECT_GE(mixed.filtered_psnr, 41.49 - 0.5);
+    EXPECT_GE(mixed.filtered_psnr, 46.33 - 0.5);
 }
 
 // The run says which filter it integrated over and why: the antialiased frame's normals are

@@ -496,15 +496,19 @@ glm::dvec4 hitTexel(const DecalHit& hit, const Decal& decal, const Texture2D& t,
 
 // Where the ray through fractional pixel position (px, py) meets the plane through P with normal
 // n (world space); nullopt when it runs parallel or meets it behind the camera.
-std::optional<glm::dvec3> rayOnPlane(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection,
-                                     double px, double py, const glm::dvec3& P, const glm::dvec3& n) {
+PixelRay pixelRay(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection, double px, double py) {
     const glm::dvec2 ndc(2.0 * (px + f.origin_x + 0.5) / f.display_width - 1.0,
                          1.0 - 2.0 * (py + f.origin_y + 0.5) / f.display_height);
     const glm::dmat4 camera_to_world = glm::inverse(camera.world_to_camera);
     const glm::dvec3 far_cam = unproject(inverse_projection, ndc, 0.0);
     const glm::dvec3 origin_cam = camera.isOrthographic() ? unproject(inverse_projection, ndc, -1.0) : glm::dvec3(0.0);
-    const glm::dvec3 origin(camera_to_world * glm::dvec4(origin_cam, 1.0));
-    const glm::dvec3 dir(camera_to_world * glm::dvec4(far_cam - origin_cam, 0.0));
+    return {glm::dvec3(camera_to_world * glm::dvec4(origin_cam, 1.0)),
+            glm::dvec3(camera_to_world * glm::dvec4(far_cam - origin_cam, 0.0))};
+}
+
+std::optional<glm::dvec3> rayOnPlane(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection,
+                                     double px, double py, const glm::dvec3& P, const glm::dvec3& n) {
+    const auto [origin, dir] = pixelRay(f, camera, inverse_projection, px, py);
     const double denom = glm::dot(dir, n);
     if (!(std::abs(denom) > 1e-6 * glm::length(dir))) return std::nullopt;
     const double t = glm::dot(P - origin, n) / denom;
@@ -639,12 +643,16 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
             Surface surface = surfaceAt(result.planes, i);
             if (normal) surface.normal = *normal;
             TapPlane taps;
-            SilhouetteSplit split;
+            SurfaceSplit split;
             if (frame.pixel_filter.enabled() && normal) {
                 taps = tapPlane(frame, camera, inverse_projection, x, y, *p, *normal);
                 if (taps.ambiguous) result.ambiguous[i] = 1;
                 if (!taps.beside_background) {
                     split = splitSilhouette(frame, camera, inverse_projection, quadrature, view_depths, x, y);
+                    if (split.ambiguous) result.ambiguous[i] = 1;
+                }
+                if (taps.valid && !split.valid) {
+                    split = splitCrease(frame, camera, inverse_projection, quadrature, view_depths, x, y, *p);
                     if (split.ambiguous) result.ambiguous[i] = 1;
                 }
             }

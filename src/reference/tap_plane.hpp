@@ -1,5 +1,5 @@
 #pragma once
-// The pixel filter's geometry in the reference (reference.cpp, silhouette_split.cpp): the taps'
+// The pixel filter's geometry in the reference (reference.cpp, surface_split.cpp): the taps'
 // planes and where pixel rays meet them, in world space, double precision.
 #include <optional>
 #include <vector>
@@ -11,6 +11,13 @@
 #include "decalcomp/reference.hpp"
 
 namespace decalcomp::reference {
+
+// The ray through fractional pixel position (px, py) in world space: origin + t dir, dir reaching
+// the NDC z = 0 plane at t = 1 (the kernels' dc_pixel_ray).
+struct PixelRay {
+    glm::dvec3 origin, dir;
+};
+PixelRay pixelRay(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection, double px, double py);
 
 // Where the ray through fractional pixel position (px, py) meets the plane through P with normal
 // n (world space); nullopt when it runs parallel or meets it behind the camera.
@@ -38,15 +45,15 @@ struct TapPlane {
 TapPlane tapPlane(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection, int x, int y,
                   const glm::dvec3& P, const glm::dvec3& n);
 
-// A silhouette pixel's taps split between its two surfaces (docs/pixel-filter.md "Silhouettes",
-// kernels/pixel_filter.h dc_split_silhouette).
-struct SilhouetteSplit {
+// A silhouette's or a crease's taps split between its two surfaces (docs/pixel-filter.md
+// "Silhouettes" and "Creases", kernels/pixel_filter.h dc_split_silhouette and dc_split_crease).
+struct SurfaceSplit {
     bool valid = false;
     bool ambiguous = false;  // a decision within rounding of its threshold
-    glm::dvec3 point[2];     // [0] the nearer surface, [1] the farther: plane point on the pixel's ray
+    glm::dvec3 point[2];     // [0] the nearer surface (a crease's first face), [1] the farther: plane point on the pixel's ray
     glm::dvec3 normal[2];    // and the plane's world normal
     TapPlane plane[2];
-    Surface material[2];     // each surface's material: its clean pixel's, then as decals left it
+    Surface material[2];     // each surface's material as the file holds it (its clean pixel's)
     glm::dvec2 dir{0.0};
     double c = 0.0, width = 1.0;
     // the share of the tap at pixel offset (u, v) on the nearer surface
@@ -54,8 +61,13 @@ struct SilhouetteSplit {
 };
 // Every pixel's view depth (NaN where it has no point), which splitSilhouette reads many times.
 std::vector<double> viewDepths(const GBuffer& f, const Camera& camera);
-SilhouetteSplit splitSilhouette(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection,
+SurfaceSplit splitSilhouette(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection,
                                 const FilterQuadrature& quadrature, const std::vector<double>& view_depths, int x,
                                 int y);
+// A crease pixel (an averaged normal without a depth jump) split between its two flat faces along
+// the image of their edge; `p` is the pixel's world point. Invalid elsewhere.
+SurfaceSplit splitCrease(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection,
+                         const FilterQuadrature& quadrature, const std::vector<double>& view_depths, int x, int y,
+                         const glm::dvec3& p);
 
 }  // namespace decalcomp::reference
