@@ -101,6 +101,8 @@ inline bool dc_tap_plane(__constant const DcFrame* f, const DcTapRays* rays, flo
 #define DC_CLEAN_DEPTH_STEP 0.015f
 /* the window reaches at most this many pixels from the pixel (binning adds one tile around each) */
 #define DC_SPLIT_WINDOW 3
+/* how far the share's mix of the surfaces' normals may miss the pixel's normal */
+#define DC_SPLIT_NORMAL_FIT 0.5f
 /* bisection steps placing the split line: 2^-16 of the footprint */
 #define DC_SPLIT_STEPS 16
 
@@ -219,6 +221,11 @@ inline void dc_split_silhouette(__constant const DcFrame* f, __global const floa
                                        has_normal ? original1[in].xyz : (float3)(0.0f),
                                        has_normal ? original1[jf].xyz : (float3)(0.0f), has_normal);
     if (share < 0.0f) return;
+    /* the two surfaces' normals mixed by the share must come near the pixel's: a third surface that
+     * the pixel mostly shows (a face seen edge-on between the two) is not explained by them */
+    if (has_normal && !(length(share * normalize(original1[in].xyz) + (1.0f - share) * normalize(original1[jf].xyz) -
+                               original1[i].xyz) <= DC_SPLIT_NORMAL_FIT))
+        return;
     DcTaps s = *t;
     if (!dc_tap_plane(f, &s.rays, pn, dc_clean_normal(f, depth_plane, position_plane, original1, has_normal,
                                                       near_px.x, near_px.y, pn), &s.plane) ||

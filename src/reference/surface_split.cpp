@@ -22,6 +22,7 @@ constexpr double kCleanNormalLength = 0.999;  // DC_CLEAN_NORMAL_LENGTH
 constexpr double kFaceCos = 0.98;             // DC_CREASE_FACE_COS
 constexpr double kFlatCos = 0.999;            // DC_CREASE_FLAT_COS
 constexpr double kNormalFit = 0.15;           // DC_CREASE_NORMAL_FIT
+constexpr double kSplitNormalFit = 0.5;       // DC_SPLIT_NORMAL_FIT
 
 // `value > limit`, with `ambiguous` set when the two lie within rounding of each other.
 bool above(double value, double limit, double scale, bool& ambiguous) {
@@ -159,6 +160,13 @@ SurfaceSplit splitSilhouette(const GBuffer& f, const Camera& camera, const glm::
     const std::size_t at[2] = {std::size_t(side[0].y) * f.width + side[0].x, std::size_t(side[1].y) * f.width + side[1].x};
     const auto share = mixedShare(f, camera, i, at[0], at[1], split.ambiguous);
     if (!share) return split;
+    // the surfaces' normals mixed by the share explain the pixel's (not a third surface between them)
+    if (f.has(Attribute::Normal)) {
+        const glm::dvec3 mix = *share * glm::normalize(worldNormalAsStored(f, camera, at[0])) +
+                               (1.0 - *share) * glm::normalize(worldNormalAsStored(f, camera, at[1]));
+        if (above(glm::length(mix - worldNormalAsStored(f, camera, i)), kSplitNormalFit, 1.0, split.ambiguous))
+            return split;
+    }
     for (int k = 0; k < 2; ++k) {
         const glm::dvec3 P = *pixelWorldPoint(f, camera, side[k].x, side[k].y);
         glm::dvec3 n;
