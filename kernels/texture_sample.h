@@ -57,6 +57,16 @@ DC_INLINE float4 dc_sample_slice_box(__global const float4* texels, DcTexture t,
     const float2 c = (float2)(clamp(s * (float)t.width, -1.0f, (float)t.width + 1.0f),
                               clamp(tc * (float)t.height, -1.0f, (float)t.height + 1.0f));
     const float2 r = fmax(rho, (float2)(1e-6f));
+    if (r.x <= 1.0f && r.y <= 1.0f) {
+        /* A box at most one texel wide crosses at most the texel edge b nearest its centre: the
+         * texels on either side share it as a linear ramp, a bilinear lookup with sharpened
+         * fractions (the common case: a filter stratum is half a pixel). */
+        const float2 b = (float2)(dc_floor_clamped(c.x + 0.5f), dc_floor_clamped(c.y + 0.5f));
+        const float2 f = clamp((c - b) / r + 0.5f, 0.0f, 1.0f);
+        const int i = (int)b.x, j = (int)b.y;
+        return mix(mix(dc_texel(texels, t, i - 1, j - 1, slice), dc_texel(texels, t, i, j - 1, slice), f.x),
+                   mix(dc_texel(texels, t, i - 1, j, slice), dc_texel(texels, t, i, j, slice), f.x), f.y);
+    }
     const float2 lo = c - 0.5f * r, hi = c + 0.5f * r;
     const float2 first = (float2)(dc_floor_clamped(lo.x), dc_floor_clamped(lo.y)); /* lo >= -2 */
     float4 sum = (float4)(0.0f);
