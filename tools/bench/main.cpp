@@ -5,6 +5,7 @@
 // device kernel time (OpenCL profiling events: tile bounds + binning + shading) and of the wall time
 // of Compositor::composite() (which includes uploads and the download). Links only decalcomp_core,
 // so it runs wherever an OpenCL ICD is installed (docs/benchmarks.md).
+#include <cmath>
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -78,6 +79,7 @@ struct Options {
     std::string csv;  // file, "-" = stdout instead of the table
     double max_unbinned_work = 1920.0 * 1080.0 * 4096.0;
     double min_size = 0.1, max_size = 0.4;
+    double same_coverage = 0;  // > 0: each count's decals share the area of one decal of this edge
     int texture_count = 4, texture_size = 32;
     std::uint32_t seed = 1;
     std::string modes = "both";  // both, binned, unbinned
@@ -284,6 +286,11 @@ int main(int argc, char** argv) {
     app.add_option("--modes", opt.modes, "both, binned or unbinned")->check(CLI::IsMember({"both", "binned", "unbinned"}));
     app.add_option("--min-size", opt.min_size, "smallest decal edge, world units (demo scene is ~10 units across)");
     app.add_option("--max-size", opt.max_size, "largest decal edge, world units");
+    app.add_option("--same-coverage", opt.same_coverage,
+                   "instead of --min-size/--max-size: every count's decals together cover the area of one decal "
+                   "of this edge (world units): N decals of edge EDGE / sqrt(N), so that 1 and 4096 decals do the "
+                   "same number of pixel-decal lookups (issue 9's \"same coverage\")")
+        ->check(CLI::PositiveNumber);
     app.add_option("--textures", opt.texture_count, "procedural textures")->check(CLI::PositiveNumber);
     app.add_option("--texture-size", opt.texture_size, "texture edge, texels")->check(CLI::PositiveNumber);
     app.add_option("--seed", opt.seed, "decal scatter seed");
@@ -339,8 +346,12 @@ int main(int argc, char** argv) {
         fmt::print(info, "device: {} ({}, {}, {}; {} compute units, {} MHz)\n", di.name, di.type, di.platform,
                    di.version, di.device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>(),
                    di.device.getInfo<CL_DEVICE_MAX_CLOCK_FREQUENCY>());
-        fmt::print(info, "decals: {}-{} world units, {} textures of {}^2 texels, seed {}; repeat {} (median), 1 warm-up\n",
-                   opt.min_size, opt.max_size, opt.texture_count, opt.texture_size, opt.seed, opt.repeat);
+        if (opt.same_coverage > 0)
+            fmt::print(info, "decals: N of edge {} / sqrt(N) world units (the same coverage for every count)", opt.same_coverage);
+        else
+            fmt::print(info, "decals: {}-{} world units", opt.min_size, opt.max_size);
+        fmt::print(info, ", {} textures of {}^2 texels, seed {}; repeat {} (median), 1 warm-up\n", opt.texture_count,
+                   opt.texture_size, opt.seed, opt.repeat);
         if (std::ifstream loadavg("/proc/loadavg"); loadavg) {
             std::string line;
             std::getline(loadavg, line);
@@ -373,6 +384,7 @@ int main(int argc, char** argv) {
                 scatter.count = count;
                 scatter.min_size = opt.min_size;
                 scatter.max_size = opt.max_size;
+                if (opt.same_coverage > 0) scatter.min_size = scatter.max_size = opt.same_coverage / std::sqrt(count);
                 scatter.texture_count = opt.texture_count;
                 scatter.texture_size = opt.texture_size;
                 scatter.seed = opt.seed;
