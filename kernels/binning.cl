@@ -40,7 +40,9 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
         all.tile_y1 = frame->tiles_y - 1;
         all.depth_min = -MAXFLOAT;
         all.depth_max = MAXFLOAT;
-        all.pad0 = all.pad1 = 0;
+        all.pixel_x0 = all.pixel_y0 = 0;
+        all.pixel_x1 = frame->width - 1;
+        all.pixel_y1 = frame->height - 1;
         bounds[id] = all;
         return;
     }
@@ -76,7 +78,6 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
         }
     }
     DcDecalBounds b;
-    b.pad0 = b.pad1 = 0;
     const float big = 1e9f; /* keeps pixel coordinates in int range */
     /* pixel-filter taps reach filter_radius pixels (and half a stratum) from their pixel */
     const float reach = 1.0f + ceil(frame->filter_radius + frame->filter_step);
@@ -86,6 +87,8 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
         any(isnan(rect))) {
         b.tile_x0 = b.tile_y0 = 0;
         b.tile_x1 = b.tile_y1 = -1;
+        b.pixel_x0 = b.pixel_y0 = 0;
+        b.pixel_x1 = b.pixel_y1 = -1;
         b.depth_min = MAXFLOAT;
         b.depth_max = -MAXFLOAT;
     } else {
@@ -93,6 +96,10 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
         b.tile_y0 = max(0, (int)y0 / DC_TILE_SIZE);
         b.tile_x1 = min(frame->tiles_x - 1, (int)x1 / DC_TILE_SIZE);
         b.tile_y1 = min(frame->tiles_y - 1, (int)y1 / DC_TILE_SIZE);
+        b.pixel_x0 = max(0, (int)x0);
+        b.pixel_y0 = max(0, (int)y0);
+        b.pixel_x1 = min(frame->width - 1, (int)x1);
+        b.pixel_y1 = min(frame->height - 1, (int)y1);
         /* taps stray up to DC_FILTER_GRAZING in depth from their pixel (pixel_filter.h) */
         const float rel = DC_DEPTH_SLACK_REL + (frame->filter_taps > 0 ? DC_FILTER_DEPTH_SLACK : 0.0f);
         b.depth_min = depth.x - fabs(depth.x) * rel - DC_DEPTH_SLACK_ABS;

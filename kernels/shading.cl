@@ -265,6 +265,11 @@ DC_INLINE DcSurface dc_filter_decal_split(__constant const DcFrame* frame, __glo
     return acc;
 }
 
+/* Whether pixel (x, y) lies in the decal's pixel range (binning.cl dc_decal_bounds). */
+inline bool dc_pixel_in_bounds(__global const DcDecalBounds* b, int x, int y) {
+    return x >= b->pixel_x0 && x <= b->pixel_x1 && y >= b->pixel_y0 && y <= b->pixel_y1;
+}
+
 /* Decal d point-sampled at the pixel centre p. Sets *applied when the decal reaches p. */
 DC_INLINE DcSurface dc_point_decal(__constant const DcFrame* frame, __global const DcDecal* d, float3 p,
                                    float3 normal, int has_normal, float3 p_dx, float3 p_dy, int footprint, int x,
@@ -289,7 +294,8 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                            __global const float4* original0, __global const float4* original1,
                            __global const DcDecal* decals, __global const DcTexture* textures,
                            __global const float4* texels, __global const int* tile_offsets,
-                           __global const int* tile_decals, int binned, int list_capacity,
+                           __global const int* tile_decals, __global const DcDecalBounds* decal_bounds, int binned,
+                           int list_capacity,
                            __global const float* mask_weights,
                            __global const uint* occlusion_maps, __global float4* beauty,
                            __global float4* light, __global const float4* rest_points,
@@ -342,10 +348,15 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
         if (point_only || (taps.mode == DC_TAPS_POINT && !frame->rest_decals)) {
             /* The common case in a loop of its own: without the branches to the pixel filter and the
              * rest pose in its body the compiler keeps it lean (PoCL: 1.4x, docs/benchmarks.md). */
-            for (int k = begin; k < end; ++k)
-                s = dc_point_decal(frame, &decals[binned ? tile_decals[k] : k], p, normal, has_normal, p_dx, p_dy,
-                                   footprint, x, y, mask_weights, occlusion_maps, textures, texels, s, variant,
-                                   &applied);
+            /* binning leaves each decal's pixel range: outside it, no transform (positions from a
+             * position pass need not project onto their pixel, so those frames skip the test) */
+            const bool pixel_test = binned && frame->depth_convention != DC_DEPTH_POSITION;
+            for (int k = begin; k < end; ++k) {
+                const int index = binned ? tile_decals[k] : k;
+                if (pixel_test && !dc_pixel_in_bounds(&decal_bounds[index], x, y)) continue;
+                s = dc_point_decal(frame, &decals[index], p, normal, has_normal, p_dx, p_dy, footprint, x, y,
+                                   mask_weights, occlusion_maps, textures, texels, s, variant, &applied);
+            }
         } else if (taps.mode == DC_TAPS_PLANE && !frame->rest_decals) {
             s = dc_filter_stacked(frame, decals, tile_decals, binned, begin, end, &taps.rays, &taps.plane, has_normal,
                                   x, y, mask_weights, textures, texels, occlusion_maps, s, variant, &applied);
@@ -395,13 +406,14 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
         __global float4 *surface0, __global float4 *surface1, __global float4 *surface2,                         \
         __global const float4 *original0, __global const float4 *original1,                                      \
         __global const DcDecal *decals, __global const DcTexture *textures, __global const float4 *texels,       \
-        __global const int *tile_offsets, __global const int *tile_decals, int binned, int list_capacity,       \
+        __global const int *tile_offsets, __global const int *tile_decals,                                      \
+        __global const DcDecalBounds *decal_bounds, int binned, int list_capacity,                              \
         __global const float *mask_weights, __global const uint *occlusion_maps, __global float4 *beauty,       \
         __global float4 *light, __global const float4 *rest_points, __global const float4 *rest_frames
 #define DC_SHADE_CALL(VARIANT)                                                                              \
     dc_shade_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2, original0, original1,       \
                    decals, textures, texels,                                                                  \
-                   tile_offsets, tile_decals, binned, list_capacity,                                          \
+                   tile_offsets, tile_decals, decal_bounds, binned, list_capacity,                            \
                    mask_weights, occlusion_maps, beauty, light, rest_points, rest_frames, VARIANT)
 
 /* Every target, kind and blast occlusion; then leaner kernels the host picks when a scene fits. */

@@ -202,11 +202,12 @@ typedef struct {
     DC_INT pad0, pad1, pad2;
 } DcTexture;
 
-/* A decal's conservative screen footprint: inclusive tile range and planar depth range. */
+/* A decal's conservative screen footprint: inclusive tile range and planar depth range, and the
+ * inclusive pixel range within the frame that the shading kernel tests before a decal's transform. */
 typedef struct {
     DC_INT tile_x0, tile_y0, tile_x1, tile_y1; /* empty when x0 > x1 */
     DC_FLOAT depth_min, depth_max;
-    DC_INT pad0, pad1;
+    DC_INT pixel_x0, pixel_y0, pixel_x1, pixel_y1;
 } DcDecalBounds;
 
 #ifndef DC_OPENCL_C

@@ -122,15 +122,17 @@ DC_CHECK(DC_OFFSET(DcTexture, pad0) == 20);
 DC_CHECK(DC_OFFSET(DcTexture, pad1) == 24);
 DC_CHECK(DC_OFFSET(DcTexture, pad2) == 28);
 
-DC_CHECK(sizeof(DcDecalBounds) == 32);
+DC_CHECK(sizeof(DcDecalBounds) == 40);
 DC_CHECK(DC_OFFSET(DcDecalBounds, tile_x0) == 0);
 DC_CHECK(DC_OFFSET(DcDecalBounds, tile_y0) == 4);
 DC_CHECK(DC_OFFSET(DcDecalBounds, tile_x1) == 8);
 DC_CHECK(DC_OFFSET(DcDecalBounds, tile_y1) == 12);
 DC_CHECK(DC_OFFSET(DcDecalBounds, depth_min) == 16);
 DC_CHECK(DC_OFFSET(DcDecalBounds, depth_max) == 20);
-DC_CHECK(DC_OFFSET(DcDecalBounds, pad0) == 24);
-DC_CHECK(DC_OFFSET(DcDecalBounds, pad1) == 28);
+DC_CHECK(DC_OFFSET(DcDecalBounds, pixel_x0) == 24);
+DC_CHECK(DC_OFFSET(DcDecalBounds, pixel_y0) == 28);
+DC_CHECK(DC_OFFSET(DcDecalBounds, pixel_x1) == 32);
+DC_CHECK(DC_OFFSET(DcDecalBounds, pixel_y1) == 36);
 
 #ifndef DC_OPENCL_C
 }  // namespace decalcomp::cl_types

@@ -447,7 +447,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 shade_range,
                 s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(), s.surface[2].device(),
                 s.original[0], s.original[1],
-                s.decal_buffer, s.texture_table, s.texels, s.tile_offsets, s.tile_decals, cl_int(binned ? 1 : 0),
+                s.decal_buffer, s.texture_table, s.texels, s.tile_offsets, s.tile_decals, s.bounds,
+                cl_int(binned ? 1 : 0),
                 cl_int(s.list_capacity), s.masks.device(), occlusion_maps, s.beauty.device(), s.light.device(),
                 s.rest_pass.points, s.rest_pass.frames);
             // Only the groups that hold a changed attribute come back, run by run, each unpacked

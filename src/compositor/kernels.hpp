@@ -43,10 +43,11 @@ struct CompositorKernels {
     cl::KernelFunctor<Buffer, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer> rest_frame;
     // frame, depth, position, surface groups 0-2 (in place), groups 0-1 as uploaded (filtered frames),
     // decals, texture table, texels,
-    // tile offsets, tile lists, binned, list capacity, mask weights, occlusion maps, beauty, light,
-    // rest points, rest frames
+    // tile offsets, tile lists, decal bounds, binned, list capacity, mask weights, occlusion maps,
+    // beauty, light, rest points, rest frames
     using Shade = cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
-                                    Buffer, Buffer, Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer>;
+                                    Buffer, Buffer, Buffer, Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer,
+                                    Buffer, Buffer>;
     std::array<Shade, 8> shade;  // by variant bits: DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT | DC_VARIANT_POINT
 };
 
