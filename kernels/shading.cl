@@ -43,7 +43,9 @@ DC_INLINE DcSurface dc_tap_decal(__constant const DcFrame* frame, __global const
 
 /* Decal d integrated over the pixel filter's taps on `plane` (docs/pixel-filter.md): each tap
  * blends the decal into s as it stands, and the result is their weighted mean, linear in the
- * decal's coverage as the renderer's filter is. Sets *applied when some tap reached the decal. */
+ * decal's coverage as the renderer's filter is. Sets *applied when some tap reached the decal.
+ * One decal at a time: for frames with texture-space decals, whose rest-space taps are placed per
+ * decal; other frames stack every decal per tap (dc_filter_stacked). */
 DC_INLINE DcSurface dc_filter_decal(__constant const DcFrame* frame, __global const DcDecal* d, const DcTapRays* rays,
                                     const DcTapPlane* plane, int has_normal, float weight,
                                     __global const DcTexture* textures, __global const float4* texels,
@@ -226,7 +228,8 @@ DC_INLINE DcSurface dc_filter_split_side(__constant const DcFrame* frame, __glob
     return sum;
 }
 
-/* Decal d at a split pixel: each surface's taps blend it into that surface's material; the pixel
+/* Decal d at a split pixel, one decal at a time (frames with texture-space decals, as
+ * dc_filter_decal): each surface's taps blend it into that surface's material; the pixel
  * keeps its mix and adds each surface's change, weighted by its taps. Each surface's material
  * then becomes the mean of its taps' results, for the next decal. */
 DC_INLINE DcSurface dc_filter_decal_split(__constant const DcFrame* frame, __global const DcDecal* d, DcTaps* taps,
