@@ -25,9 +25,11 @@ done
 
 # Issue 14: the beauty update's cost, alternated twice
 for round in 1 2; do
-    for beauty in "" --beauty; do
+    for beauty in without with; do
+        flag=""
+        [ "$beauty" = with ] && flag=--beauty
         $E $B --device nvidia --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers \
-            $beauty --csv "$OUT/beauty$beauty-$round.csv" >"$OUT/beauty$beauty-$round.log" 2>&1
+            $flag --csv "$OUT/beauty-$beauty-$round.csv" >"$OUT/beauty-$beauty-$round.log" 2>&1
     done
 done
 
