@@ -4,7 +4,8 @@
 #   sh ../shared/gpu/prepare.sh && cp build/decalcomp-bench .gpu/ && cp tools/bench/gpu-round.sh .gpu/
 # then the device tool with carry [".gpu"] and: sh .gpu/gpu-round.sh
 # The first run builds the kernels (minutes on NVIDIA; the driver caches them for the runs after).
-# Everything lands in $OUT (the device tool's output folder), one log per step.
+# Everything lands in $OUT (the device tool's output folder), one log per step (plain file names:
+# the device tool does not bring back names with odd characters).
 set -u
 E="sh .gpu/opencl-env.sh"
 B=./.gpu/decalcomp-bench
@@ -37,7 +38,7 @@ done
 for round in 1 2; do
     for filter in none blackman-harris:3; do
         $E $B --device nvidia --repeat 10 --sizes 1920x1080 --counts 1024 --modes binned --no-transfers \
-            --pixel-filter $filter --csv "$OUT/filter-$filter-$round.csv" >"$OUT/filter-$filter-$round.log" 2>&1
+            --pixel-filter $filter --csv "$OUT/filter-${filter%%:*}-$round.csv" >"$OUT/filter-${filter%%:*}-$round.log" 2>&1
     done
 done
 date -u >>"$OUT/machine.txt"
