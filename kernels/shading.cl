@@ -41,37 +41,6 @@ DC_INLINE DcSurface dc_tap_decal(__constant const DcFrame* frame, __global const
     return dc_apply_decal(frame, d, lk, textures, texels, weight, plane->n, out, variant);
 }
 
-/* Decal d integrated over the pixel filter's taps on `plane` (docs/pixel-filter.md): each tap
- * blends the decal into s as it stands, and the result is their weighted mean, linear in the
- * decal's coverage as the renderer's filter is. Sets *applied when some tap reached the decal.
- * One decal at a time: for frames with texture-space decals, whose rest-space taps are placed per
- * decal; other frames stack every decal per tap (dc_filter_stacked). */
-DC_INLINE DcSurface dc_filter_decal(__constant const DcFrame* frame, __global const DcDecal* d, const DcTapRays* rays,
-                                    const DcTapPlane* plane, int has_normal, float weight,
-                                    __global const DcTexture* textures, __global const float4* texels,
-                                    __global const uint* occlusion_maps, DcSurface s, const int variant,
-                                    int* applied) {
-    if (!dc_filter_may_reach(d, plane)) return s;
-    const float3 su = dc_camera_to_local_vector(d, plane->du) * frame->filter_step;
-    const float3 sv = dc_camera_to_local_vector(d, plane->dv) * frame->filter_step;
-    DcSurface acc = dc_surface_add_scaled(s, s, -1.0f);
-    int touched = 0;
-    for (int j = 0; j < frame->filter_taps; ++j)
-        for (int i = 0; i < frame->filter_taps; ++i) {
-            DcSurface out = s;
-            float3 pt;
-            const float w = frame->filter_weight[i] * frame->filter_weight[j];
-            if (dc_tap_point(rays, plane, frame->filter_offset[i], frame->filter_offset[j], &pt))
-                out = dc_tap_decal(frame, d, plane, pt, su, sv, has_normal, weight, textures, texels, occlusion_maps, s,
-                                   variant, &touched);
-            acc = dc_surface_add_scaled(acc, out, w);
-        }
-    if (!touched) return s;
-    if (acc.normal_changed && length(acc.normal) > 1e-6f) acc.normal = normalize(acc.normal);
-    *applied = 1;
-    return acc;
-}
-
 /* The decal's opacity times its mask's weight at the pixel. */
 inline float dc_decal_weight(__constant const DcFrame* frame, __global const DcDecal* d,
                              __global const float* mask_weights, int x, int y) {
@@ -228,8 +197,8 @@ DC_INLINE DcSurface dc_filter_split_side(__constant const DcFrame* frame, __glob
     return sum;
 }
 
-/* Decal d at a split pixel, one decal at a time (frames with texture-space decals, as
- * dc_filter_decal): each surface's taps blend it into that surface's material; the pixel
+/* Decal d at a split pixel, one decal at a time (frames with texture-space decals, whose
+ * rest-space taps are placed per decal): each surface's taps blend it into that surface's material; the pixel
  * keeps its mix and adds each surface's change, weighted by its taps. Each surface's material
  * then becomes the mean of its taps' results, for the next decal. */
 DC_INLINE DcSurface dc_filter_decal_split(__constant const DcFrame* frame, __global const DcDecal* d, DcTaps* taps,
@@ -376,10 +345,10 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                 else if (taps.mode == DC_TAPS_SPLIT)
                     s = dc_filter_decal_split(frame, d, &taps, has_normal, dc_decal_weight(frame, d, mask_weights, x, y),
                                               textures, texels, occlusion_maps, s, variant, &applied);
-                else if (taps.mode != DC_TAPS_POINT)
-                    s = dc_filter_decal(frame, d, &taps.rays, &taps.plane, has_normal,
-                                        dc_decal_weight(frame, d, mask_weights, x, y), textures, texels,
-                                        occlusion_maps, s, variant, &applied);
+                else if (taps.mode != DC_TAPS_POINT) /* this decal alone over the taps */
+                    s = dc_filter_stacked(frame, decals, tile_decals, binned, k, k + 1, &taps.rays, &taps.plane,
+                                          has_normal, x, y, mask_weights, textures, texels, occlusion_maps, s, variant,
+                                          &applied);
                 else
                     s = dc_point_decal(frame, d, p, normal, has_normal, p_dx, p_dy, footprint, x, y, mask_weights,
                                        occlusion_maps, textures, texels, s, variant, &applied);
