@@ -75,6 +75,19 @@ std::optional<double> mixedShare(const GBuffer& f, const Camera& camera, std::si
     return clamped(glm::dot(n - nf, dn) / glm::dot(dn, dn));
 }
 
+// Surface k of the split: the plane through P with world normal n, placed on pixel (x, y)'s ray
+// with its taps' footprint; false where the ray misses it or the footprint is not integrated.
+bool placeSurface(const GBuffer& f, const Camera& camera, const glm::dmat4& inverse_projection, int x, int y,
+                  const glm::dvec3& P, const glm::dvec3& n, int k, SurfaceSplit& split) {
+    const auto on_ray = rayOnPlane(f, camera, inverse_projection, x, y, P, n);
+    if (!on_ray) return false;
+    split.point[k] = *on_ray;
+    split.normal[k] = n;
+    split.plane[k] = tapPlane(f, camera, inverse_projection, x, y, *on_ray, n);
+    if (split.plane[k].ambiguous) split.ambiguous = true;
+    return split.plane[k].valid;
+}
+
 // The filter's weight on the nearer side of the line at c.
 double nearWeight(const SurfaceSplit& s, const FilterQuadrature& q, double c) {
     SurfaceSplit at = s;
@@ -179,13 +192,7 @@ SurfaceSplit splitSilhouette(const GBuffer& f, const Camera& camera, const glm::
             n = glm::normalize(glm::dvec3(glm::inverse(camera.world_to_camera) * glm::dvec4(n_camera, 0.0)));
             if (tie) split.ambiguous = true;
         }
-        const auto on_ray = rayOnPlane(f, camera, inverse_projection, x, y, P, n);
-        if (!on_ray) return split;
-        split.point[k] = *on_ray;
-        split.normal[k] = n;
-        split.plane[k] = tapPlane(f, camera, inverse_projection, x, y, *on_ray, n);
-        if (split.plane[k].ambiguous) split.ambiguous = true;
-        if (!split.plane[k].valid) return split;
+        if (!placeSurface(f, camera, inverse_projection, x, y, P, n, k, split)) return split;
         split.material[k] = surfaceAt(f.planes, at[k]);
         split.material[k].normal = n;
     }
@@ -285,14 +292,8 @@ SurfaceSplit splitCrease(const GBuffer& f, const Camera& camera, const glm::dmat
     for (int k = 0; k < 2; ++k) {
         at[k] = std::size_t(faces->y[k]) * f.width + faces->x[k];
         clean_point[k] = *pixelWorldPoint(f, camera, faces->x[k], faces->y[k]);
-        const glm::dvec3& n = faces->normal[k];
-        const auto on_ray = rayOnPlane(f, camera, inverse_projection, x, y, clean_point[k], n);
-        if (!on_ray) return split;
-        split.point[k] = *on_ray;
-        split.normal[k] = n;
-        split.plane[k] = tapPlane(f, camera, inverse_projection, x, y, *on_ray, n);
-        if (split.plane[k].ambiguous) split.ambiguous = true;
-        if (!split.plane[k].valid) return split;
+        if (!placeSurface(f, camera, inverse_projection, x, y, clean_point[k], faces->normal[k], k, split))
+            return split;
     }
     // both faces pass through the pixel's own point (no depth jump)
     for (int k = 0; k < 2; ++k)
