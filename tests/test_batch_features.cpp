@@ -139,6 +139,19 @@ TEST(BatchFeatures, FolderOutputKeepsTheAlbedoFilesNameAndResumeSkipsEveryFrame)
     EXPECT_EQ(filesIn(s.dir.path() / "outdir").size(), 3u);
 }
 
+// --io-only is the batch bench's yardstick, the I/O of frames whose decals change everything: it
+// reads every chunk and re-encodes every chunk (a copy of the input would measure no encoding).
+TEST(BatchFeatures, IoOnlyReencodesEveryChunkAndKeepsEveryPixel) {
+    PassSequence s;
+    const std::string out = s.dir.file("out/io.####.exr");
+    const auto r = s.batch(out, "--io-only --stats");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const std::size_t pixels = kFrames.size() * std::size_t(kWidth) * kHeight;  // the albedo file of each frame
+    EXPECT_NE(r.output.find("chunks copied 0, chunks re-encoded"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("pixels re-encoded " + std::to_string(pixels)), std::string::npos) << r.output;
+    for (int f : kFrames) EXPECT_EQ(test::pixelDifference(readExr(FramePattern(out).path(f)), readExr(s.albedoAt(f))), "") << f;
+}
+
 TEST(BatchFeatures, OutputWithoutFrameTokenThatIsNoFolderIsAUsageError) {
     PassSequence s;
     const std::string out = s.dir.file("out.exr");

@@ -84,6 +84,10 @@ public:
     // --add-channels needs every pixel; the rest are copied from the input when written.
     void read(const DecalScene* scene = nullptr);
 
+    // Reads every chunk and has writeBack() re-encode every chunk, as for a frame whose decals
+    // change all of them, instead of copying the input: what batch --io-only measures.
+    void readAsIfEverythingChanged();
+
     // Maps channels, adds requested channels, decides where each changed file goes (and refuses
     // to overwrite an input), extracts the planes, resolves the camera, settles the depth and normal
     // conventions (once per sequence when `sequence` is given) and evaluates the decal masks.

@@ -75,6 +75,12 @@ void Frame::read(const DecalScene* scene) {
     read_ = true;
 }
 
+void Frame::readAsIfEverythingChanged() {
+    read();
+    for (ExrImage& image : files_)
+        for (ExrPart& part : image.parts) part.changed.assign(std::size_t(part.chunks.count()), 1);
+}
+
 void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
     read(&scene);
     const std::string& input = sources_.inputs.front();
