@@ -289,6 +289,23 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
     }
     /* the tile's list before the pixel's point: tiles no decal reaches read nothing but it */
     if (begin >= end) return;
+    /* Binning leaves each decal's pixel range (with the filter taps' reach): a pixel outside every
+     * range of its list is reached by none of them, and reads nothing more either; the list
+     * narrows to the entries from the first to the last whose range holds it. Positions from a
+     * position pass need not project onto their pixel, and texture-space decals follow the rest
+     * pose: those frames skip the test. */
+    const bool pixel_test = binned && frame->depth_convention != DC_DEPTH_POSITION && !frame->rest_decals;
+    if (pixel_test) {
+        int first = end, last = begin - 1;
+        for (int k = begin; k < end; ++k)
+            if (dc_pixel_in_bounds(&decal_bounds[tile_decals[k]], x, y)) {
+                first = min(first, k);
+                last = k;
+            }
+        if (first > last) return;
+        begin = first;
+        end = last + 1;
+    }
     float3 p;
     if (!dc_reconstruct(frame, depth_plane, position_plane, x, y, &p)) return;
     const float4 in0 = surface0[i];
@@ -320,9 +337,7 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
         if (point_only || (taps.mode == DC_TAPS_POINT && !frame->rest_decals)) {
             /* The common case in a loop of its own: without the branches to the pixel filter and the
              * rest pose in its body the compiler keeps it lean (PoCL: 1.4x, docs/benchmarks.md). */
-            /* binning leaves each decal's pixel range: outside it, no transform (positions from a
-             * position pass need not project onto their pixel, so those frames skip the test) */
-            const bool pixel_test = binned && frame->depth_convention != DC_DEPTH_POSITION;
+            /* outside a decal's pixel range, no transform (pixel_test above) */
             for (int k = begin; k < end; ++k) {
                 const int index = binned ? tile_decals[k] : k;
                 if (pixel_test && !dc_pixel_in_bounds(&decal_bounds[index], x, y)) continue;
