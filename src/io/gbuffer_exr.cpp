@@ -91,21 +91,38 @@ void checkChannel(const Files& files, const ChannelRef& ref, bool allow_uint, co
                                      channel.qualified, label));
 }
 
-// Calls visit(frame_index, channel_index, x, y) for every pixel (x, y) in the overlap of the
-// frame's window and a channel's data window that `part` decoded, row by row; indices are into
-// each one's own row-major samples.
+// Calls visit(frame_index, channel_index, x, y, count) for every run of `count` pixels from (x, y)
+// along a row in the overlap of the frame's window and a channel's data window that lies in one
+// chunk `part` decoded; indices are into each one's own row-major samples.
 template <typename Visit>
-void forEachOverlapPixel(const Imath::Box2i& window, const ExrPart& part, Visit visit) {
+void forEachOverlapRun(const Imath::Box2i& window, const ExrPart& part, Visit visit) {
     const Imath::Box2i dw = part.header.dataWindow();
     const std::size_t width = std::size_t(window.max.x - window.min.x + 1);
     const long long channel_width = (long long)dw.max.x - dw.min.x + 1;
     const int x0 = std::max(window.min.x, dw.min.x), x1 = std::min(window.max.x, dw.max.x);
     const int y0 = std::max(window.min.y, dw.min.y), y1 = std::min(window.max.y, dw.max.y);
+    // a run ends at the row's end, or at a tile's right edge in tiled parts
+    const int run_width = part.chunks.tiled ? part.chunks.tile_width : x1 - x0 + 1;
     for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x)
+        for (int x = x0; x <= x1;) {
+            int end = x1 + 1;
+            if (part.chunks.tiled)
+                end = std::min(end, dw.min.x + ((x - dw.min.x) / run_width + 1) * run_width);
             if (part.isDecodedAt(x, y))
                 visit(std::size_t(y - window.min.y) * width + std::size_t(x - window.min.x),
-                      std::size_t((long long)(y - dw.min.y) * channel_width + (x - dw.min.x)), x, y);
+                      std::size_t((long long)(y - dw.min.y) * channel_width + (x - dw.min.x)), x, y, end - x);
+            x = end;
+        }
+}
+
+// Samples [first, first + count) of `channel` as floats into out[0], out[stride], ...
+void readRun(const ExrChannel& channel, std::size_t first, std::size_t count, float* out, std::size_t stride) {
+    if (channel.type == SampleType::Float) {  // most G-buffers: no conversion
+        const unsigned char* p = channel.bytes.data() + first * sizeof(float);
+        for (std::size_t k = 0; k < count; ++k) std::memcpy(out + k * stride, p + k * sizeof(float), sizeof(float));
+        return;
+    }
+    for (std::size_t k = 0; k < count; ++k) out[k * stride] = io::sampleAsFloat(channel, first + k);
 }
 
 Plane readOnWindow(const Files& files, const std::vector<ChannelRef>& refs, const Imath::Box2i& window, float fill,
@@ -120,8 +137,8 @@ Plane readOnWindow(const Files& files, const std::vector<ChannelRef>& refs, cons
         const ExrChannel& channel = channelAt(files, refs[c], label);
         // Pixels in chunks that were not decoded keep `fill`: background, which no decal changes.
         const ExrPart& part = files[refs[c].file]->parts[refs[c].part];
-        forEachOverlapPixel(window, part, [&](std::size_t frame, std::size_t sample, int, int) {
-            plane.at(frame, c) = io::sampleAsFloat(channel, sample);
+        forEachOverlapRun(window, part, [&](std::size_t frame, std::size_t sample, int, int, int count) {
+            readRun(channel, sample, std::size_t(count), &plane.at(frame, c), std::size_t(plane.components));
         });
     }
     return plane;
@@ -185,14 +202,28 @@ std::size_t store(const std::vector<ExrImage*>& files, const ChannelMapping& map
             throw outputError(fmt::format("{}: channel {}: subsampled", image.path, channel.qualified));
         // Untouched pixels keep their exact original bits, and the chunks holding none of the
         // changed ones are written back as the input's compressed bytes (ExrPart::changed).
-        forEachOverlapPixel(window, part, [&](std::size_t frame, std::size_t sample, int x, int y) {
-            const float value = plane.at(frame, c);
-            const float before = io::sampleAsFloat(channel, sample);
-            if (sameBits(value, before)) return;
-            io::storeSample(channel, sample, value);
-            if (sameBits(io::sampleAsFloat(channel, sample), before)) return;  // rounded back (half, uint)
-            part.markChanged(x, y);
-            ++changed;
+        forEachOverlapRun(window, part, [&](std::size_t frame, std::size_t sample, int x, int y, int count) {
+            std::size_t run_changed = 0;
+            if (channel.type == SampleType::Float) {  // most G-buffers: compare and store the bits
+                unsigned char* p = channel.bytes.data() + sample * sizeof(float);
+                for (int k = 0; k < count; ++k, p += sizeof(float)) {
+                    const float value = plane.at(frame + std::size_t(k), c);
+                    if (std::memcmp(p, &value, sizeof value) == 0) continue;
+                    std::memcpy(p, &value, sizeof value);
+                    ++run_changed;
+                }
+                count = 0;
+            }
+            for (int k = 0; k < count; ++k) {
+                const float value = plane.at(frame + std::size_t(k), c);
+                const std::size_t at = sample + std::size_t(k);
+                const float before = io::sampleAsFloat(channel, at);
+                if (sameBits(value, before)) continue;
+                io::storeSample(channel, at, value);
+                run_changed += !sameBits(io::sampleAsFloat(channel, at), before);  // not rounded back (half, uint)
+            }
+            if (run_changed) part.markChanged(x, y);  // a run lies in one chunk
+            changed += run_changed;
         });
     }
     return changed;
