@@ -166,6 +166,31 @@ std::string writeRadialFrame(const fs::path& dir, const std::string& name, int f
     return path;
 }
 
+// The pixel filter settles like the conventions: frames that cannot tell (no sharp turn in their
+// normals) neither settle it nor are held to a guess; the first that can decides for the rest,
+// which then skip the scan of their normal pass.
+TEST(Frame, SequenceSettlesThePixelFilterOnTheFirstConclusiveFrame) {
+    SequenceConventions sequence;
+    int scans = 0;
+    const auto frameSaying = [&](const std::string& filter, bool conclusive) {
+        return [&scans, filter, conclusive] {
+            ++scans;
+            return PixelFilterChoice{parsePixelFilter(filter, ""), "frame saying " + filter, conclusive};
+        };
+    };
+    const PixelFilterChoice unsure = sequence.pixelFilter(frameSaying("blackman-harris:3", false));
+    EXPECT_EQ(unsure.filter.spelling(), "blackman-harris:3");
+    const PixelFilterChoice first = sequence.pixelFilter(frameSaying("none", true));
+    EXPECT_EQ(first.filter.spelling(), "none");
+    EXPECT_EQ(scans, 2);
+    for (const char* later : {"gaussian:2", "box:1"}) {
+        const PixelFilterChoice settled = sequence.pixelFilter(frameSaying(later, true));
+        EXPECT_EQ(settled.filter.spelling(), "none") << later;
+        EXPECT_EQ(settled.source, "frame saying none");
+    }
+    EXPECT_EQ(scans, 2) << "settled frames scan nothing";
+}
+
 TEST(Frame, SequenceConventionsSettleOnceForTheSequence) {
     SyntheticFrame s;
     const std::string radial = writeRadialFrame(s.dir.path(), "radial.exr", 1, true);

@@ -90,7 +90,8 @@ public:
 
     // Maps channels, adds requested channels, decides where each changed file goes (and refuses
     // to overwrite an input), extracts the planes, resolves the camera, settles the depth and normal
-    // conventions (once per sequence when `sequence` is given) and evaluates the decal masks.
+    // conventions and the pixel filter (once per sequence when `sequence` is given) and evaluates the
+    // decal masks.
     // `scene` is the whole scene; animated decals are taken at FrameOptions::frame_number.
     // Throws Error naming the file and field; nothing is written.
     void prepare(const DecalScene& scene, SequenceConventions* sequence = nullptr);

@@ -44,6 +44,14 @@ FilterQuadrature filterQuadrature(const PixelFilter& filter);
 // Pixels beyond a decal's projection that filtering can change or read: the widest filter's
 // radius (gaussian:8, 6 px), half a stratum and the neighbour the mixed-pixel test reads.
 inline constexpr int kMaxFilterReach = 8;
-FilterQuadrature filterQuadrature(const PixelFilter& filter);
+
+// The filter a frame is composited with, and why (docs/pixel-filter.md "Choosing").
+struct PixelFilterChoice {
+    PixelFilter filter;
+    std::string source;  // "--pixel-filter", "header pixelFilter of F", "profile blender", ...
+    // False where the frame could not tell (no normal pass, or one without a sharp turn) and the
+    // profile's default stands in: a sequence waits for a frame that can tell.
+    bool conclusive = true;
+};
 
 }  // namespace decalcomp

@@ -1,7 +1,9 @@
 #pragma once
-// How a frame's depth and normal passes are read, checked against its geometry and settled: once
-// per frame for `composite`, once per sequence for `batch` (the first frame whose check is
-// conclusive decides for every frame, so a sequence is never read two ways).
+// How a frame's depth and normal passes are read, checked against its geometry and settled, and
+// which pixel filter it was rendered with: once per frame for `composite`, once per sequence for
+// `batch` (the first frame whose check is conclusive decides for every frame, so a sequence is
+// never read two ways).
+#include <functional>
 #include <mutex>
 #include <optional>
 
@@ -10,6 +12,7 @@
 #include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/gbuffer.hpp"
 #include "decalcomp/normal_check.hpp"
+#include "decalcomp/pixel_filter.hpp"
 
 namespace decalcomp {
 
@@ -33,10 +36,16 @@ public:
     std::optional<DepthConvention> depth() const;
     std::optional<NormalEncoding> normals() const;
 
+    // The pixel filter settled for the sequence, else `choose()`'s for this frame, which settles it
+    // when conclusive: decals never switch between filtered and point-sampled within a shot, and
+    // later frames skip the normal-pass scan.
+    PixelFilterChoice pixelFilter(const std::function<PixelFilterChoice()>& choose);
+
 private:
     mutable std::mutex mutex_;
     std::optional<DepthConvention> depth_;
     std::optional<NormalEncoding> normals_;
+    std::optional<PixelFilterChoice> pixel_filter_;
 };
 
 }  // namespace decalcomp

@@ -149,8 +149,11 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
         report_.depth_check = settleDepthConvention(gbuffer_, mapping, camera_);
         report_.normal_check = settleNormalEncoding(gbuffer_, mapping, camera_);
     }
-    const PixelFilterChoice filter =
-        choosePixelFilter(files_, mapping.profile, options_.mapping.profile_files, gbuffer_, options_.pixel_filter);
+    const auto choose = [&] {
+        return choosePixelFilter(files_, mapping.profile, options_.mapping.profile_files, gbuffer_,
+                                 options_.pixel_filter);
+    };
+    const PixelFilterChoice filter = sequence ? sequence->pixelFilter(choose) : choose();
     gbuffer_.pixel_filter = filter.filter;
     report_.pixel_filter = fmt::format("{} ({})", filter.filter.spelling(), filter.source);
     for (std::string& warning : depthWarnings(gbuffer_, camera_, depthChannelName(files_, mapping), label()))

@@ -62,12 +62,14 @@ PixelFilterChoice choosePixelFilter(const std::vector<ExrImage>& files, const st
             if (const auto* text = part.header.findTypedAttribute<Imf::StringAttribute>("pixelFilter"))
                 return {parsePixelFilter(text->value(), file.path + ": header pixelFilter"),
                         "header pixelFilter of " + file.path};
-    if (const NormalEdges edges = normalEdges(gbuffer); edges.hard())
+    const NormalEdges edges = normalEdges(gbuffer);
+    if (edges.hard())
         return {PixelFilter{}, fmt::format("the normal pass has hard edges: {} sharp turns, {} averaged normals",
                                            edges.sharp_turns, edges.short_normals)};
+    const bool conclusive = edges.sharp_turns > 0;
     for (const ChannelProfile& p : profileSet(profile_files))
-        if (p.name == profile) return {p.pixel_filter, "profile " + profile};
-    return {PixelFilter{}, "profile " + profile};
+        if (p.name == profile) return {p.pixel_filter, "profile " + profile, conclusive};
+    return {PixelFilter{}, "profile " + profile, conclusive};
 }
 
 }  // namespace decalcomp

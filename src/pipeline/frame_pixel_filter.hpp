@@ -11,15 +11,10 @@
 
 namespace decalcomp {
 
-struct PixelFilterChoice {
-    PixelFilter filter;
-    std::string source;  // "--pixel-filter", "header pixelFilter of F", "profile blender", ...
-};
-
 // --pixel-filter when given; else a `pixelFilter` string attribute in an input's header; else
 // none when the frame's normal pass has hard edges (unit normals only, and neighbours that turn
 // sharply: its passes were not filtered, as in 1-spp renders, tiny filters, game-engine dumps);
-// else the profile's default.
+// else the profile's default (inconclusive where the normal pass has no sharp turn to judge by).
 PixelFilterChoice choosePixelFilter(const std::vector<ExrImage>& files, const std::string& profile,
                                     const std::vector<std::string>& profile_files, const GBuffer& gbuffer,
                                     const std::optional<PixelFilter>& requested);

@@ -86,4 +86,16 @@ std::optional<NormalEncoding> SequenceConventions::normals() const {
     return normals_;
 }
 
+PixelFilterChoice SequenceConventions::pixelFilter(const std::function<PixelFilterChoice()>& choose) {
+    {
+        std::lock_guard lock(mutex_);
+        if (pixel_filter_) return *pixel_filter_;
+    }
+    const PixelFilterChoice choice = choose();  // outside the lock: it scans the frame's normals
+    if (!choice.conclusive) return choice;
+    std::lock_guard lock(mutex_);
+    if (!pixel_filter_) pixel_filter_ = choice;
+    return *pixel_filter_;  // a frame that raced another takes the settled choice too
+}
+
 }  // namespace decalcomp
