@@ -403,11 +403,15 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                    tile_offsets, tile_decals, decal_bounds, binned, list_capacity,                            \
                    mask_weights, occlusion_maps, beauty, light, rest_points, rest_frames, VARIANT)
 
-/* Every target, kind and blast occlusion; then leaner kernels the host picks when a scene fits. */
+/* Every target, kind and blast occlusion; then leaner kernels the host picks when a scene fits.
+ * The host builds these four only for filtered and texture-space frames (ComputeDevice::fullProgram):
+ * a program built with DC_POINT_SHADING_ONLY leaves them out. */
+#ifndef DC_POINT_SHADING_ONLY
 __kernel void dc_shade(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(0); }
 __kernel void dc_shade_flat(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_FLAT); }
 __kernel void dc_shade_albedo(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_ALBEDO_ONLY); }
 __kernel void dc_shade_albedo_flat(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT); }
+#endif
 /* The same for point-sampled frames without texture-space decals: none of the pixel filter's or
  * the rest pose's code, and so none of their registers (docs/benchmarks.md). */
 __kernel void dc_shade_point(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_POINT); }

@@ -41,15 +41,22 @@ public:
     const DeviceInfo& info() const { return info_; }
     cl::Context& context() { return context_; }
     cl::CommandQueue& queue() { return queue_; }
-    // Builds on first use. Throws Error(Device) with the device name, options and full build log.
+    // The kernels, each program built on first use. program() holds every kernel but the shading
+    // kernels of filtered and texture-space frames, whose inlined filter paths are most of a cold
+    // build (over 9 minutes on NVIDIA's compiler): point-sampled frames never wait for them.
+    // fullProgram() holds every kernel. Both throw Error(Device) with the device name, options and
+    // full build log.
     cl::Program& program();
+    cl::Program& fullProgram();
 
 private:
+    cl::Program build(const std::string& options);
+
     DeviceInfo info_;
     cl::Context context_;
     cl::CommandQueue queue_;
-    cl::Program program_;
-    bool built_ = false;
+    cl::Program program_, full_program_;
+    bool built_ = false, full_built_ = false;
     bool profiling_ = true;
 };
 

@@ -148,13 +148,24 @@ ComputeDevice::ComputeDevice(DeviceInfo info) : info_(std::move(info)) {
 }
 
 cl::Program& ComputeDevice::program() {
-    if (built_) return program_;
-    const std::string options = buildOptions();
+    if (!built_) program_ = build(buildOptions() + " -DDC_POINT_SHADING_ONLY");  // (kernels/shading.cl)
+    built_ = true;
+    return program_;
+}
+
+cl::Program& ComputeDevice::fullProgram() {
+    if (!full_built_) full_program_ = build(buildOptions());
+    full_built_ = true;
+    return full_program_;
+}
+
+cl::Program ComputeDevice::build(const std::string& options) {
+    cl::Program program;
     try {
-        program_ = cl::Program(context_, programSource());
-        program_.build({info_.device}, options.c_str());
+        program = cl::Program(context_, programSource());
+        program.build({info_.device}, options.c_str());
         if (std::getenv("DECALCOMP_CL_BUILD_LOG"))  // the compiler's notes even on success
-            std::cerr << program_.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device) << "\n";
+            std::cerr << program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device) << "\n";
     } catch (const cl::BuildError& e) {
         std::string log;
         for (const auto& [device, text] : e.getBuildLog()) log += text;
@@ -162,14 +173,13 @@ cl::Program& ComputeDevice::program() {
     } catch (const cl::Error& e) {
         std::string log;
         try {
-            log = program_.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device);
+            log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device);
         } catch (const cl::Error&) {
         }
         throw deviceError(fmt::format("{}: kernel build failed ({}) with options '{}':\n{}", info_.name,
                                       clErrorName(e.err()), options, log));
     }
-    built_ = true;
-    return program_;
+    return program;
 }
 
 }  // namespace decalcomp

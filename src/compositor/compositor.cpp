@@ -425,8 +425,9 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             });
             const bool point = params.filter_taps == 0 && !params.rest_decals;
             CompositorKernels::Shade& shade =
-                k.shade[std::size_t((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0) |
-                                    (point ? DC_VARIANT_POINT : 0))];
+                k.shading((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0) |
+                              (point ? DC_VARIANT_POINT : 0),
+                          [&]() -> const cl::Program& { return device_.fullProgram(); });
             // Binned, one work-group per screen tile: its work-items walk the same decal list. Unbinned
             // the same groups: PoCL keeps a work-group's private variables on its thread's stack, and
             // the groups it picks itself for a whole frame (40 x 78) overflowed it.

@@ -8,7 +8,7 @@ namespace {
 
 // The shading kernels in DC_VARIANT_x bit order.
 static_assert(DC_VARIANT_ALBEDO_ONLY == 1 && DC_VARIANT_FLAT == 2 && DC_VARIANT_POINT == 4,
-              "shade[] is indexed by the variant bits");
+              "shade_ is indexed by the variant bits");
 
 }  // namespace
 
@@ -26,13 +26,17 @@ CompositorKernels::CompositorKernels(const cl::Program& program)
       occlusion_build(program, "dc_occlusion_build"),
       rest_lookup(program, "dc_rest_lookup"),
       rest_frame(program, "dc_rest_frame"),
-      shade{Shade(program, "dc_shade"),
-            Shade(program, "dc_shade_albedo"),
-            Shade(program, "dc_shade_flat"),
-            Shade(program, "dc_shade_albedo_flat"),
-            Shade(program, "dc_shade_point"),
-            Shade(program, "dc_shade_point_albedo"),
-            Shade(program, "dc_shade_point_flat"),
-            Shade(program, "dc_shade_point_albedo_flat")} {}
+      shade_{std::nullopt, std::nullopt, std::nullopt, std::nullopt, Shade(program, "dc_shade_point"),
+             Shade(program, "dc_shade_point_albedo"), Shade(program, "dc_shade_point_flat"),
+             Shade(program, "dc_shade_point_albedo_flat")} {}
+
+CompositorKernels::Shade& CompositorKernels::shading(int variant, const std::function<const cl::Program&()>& full) {
+    std::optional<Shade>& kernel = shade_.at(std::size_t(variant));
+    if (!kernel) {
+        static const char* const names[4] = {"dc_shade", "dc_shade_albedo", "dc_shade_flat", "dc_shade_albedo_flat"};
+        kernel.emplace(full(), names[variant]);  // (the point variants are all built above)
+    }
+    return *kernel;
+}
 
 }  // namespace decalcomp

@@ -4,12 +4,15 @@
 #include <CL/opencl.hpp>
 
 #include <array>
+#include <functional>
+#include <optional>
 
 namespace decalcomp {
 
 using cl::Buffer;
 
 struct CompositorKernels {
+    // Every kernel of `program` (ComputeDevice::program()); the full shading kernels come later.
     explicit CompositorKernels(const cl::Program& program);
 
     // frame, depth plane, position plane, tile depth ranges: a work-group per tile (GPUs), or a
@@ -48,7 +51,13 @@ struct CompositorKernels {
     using Shade = cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
                                     Buffer, Buffer, Buffer, Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer,
                                     Buffer, Buffer>;
-    std::array<Shade, 8> shade;  // by variant bits: DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT | DC_VARIANT_POINT
+    // The shading kernel of a variant (DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT | DC_VARIANT_POINT
+    // bits); those without DC_VARIANT_POINT are taken from `full` (ComputeDevice::fullProgram,
+    // called only then) the first time one is asked for.
+    Shade& shading(int variant, const std::function<const cl::Program&()>& full);
+
+private:
+    std::array<std::optional<Shade>, 8> shade_;
 };
 
 }  // namespace decalcomp

@@ -13,7 +13,8 @@ OUT=${OUT:-/tmp/gpu-round}
 mkdir -p "$OUT"
 { date -u; nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv; $E clinfo -l; } >"$OUT/machine.txt" 2>&1
 
-# warm-up: builds and caches the program
+# warm-up: builds and caches the program of point-sampled frames (the filter's full program is
+# built by the last step, which may run out of a call's time on a cold machine)
 $E $B --device nvidia --quick >"$OUT/warmup.log" 2>&1
 
 # Issue 9: composite() against its transfer floors, the kernels against the copy rate, 4096 against 1
