@@ -118,6 +118,55 @@ TEST(Kernels, ProgramBuildsOnPocl) {
     EXPECT_NO_THROW(cpuDevice().program());
 }
 
+// The kernel names of a program, ';'-separated as OpenCL lists them, each between ';'.
+std::string kernelNames(const cl::Program& program) { return ";" + program.getInfo<CL_PROGRAM_KERNEL_NAMES>() + ";"; }
+
+// Point-sampled work builds a program without the full shading kernels (a cold NVIDIA build of
+// those took over 9 minutes); asking for them builds the full program, which is then the one given.
+TEST(Kernels, PointSampledWorkLeavesTheFullShadingKernelsUnbuilt) {
+    ComputeDevice device("cpu");
+    const std::string point = kernelNames(device.program());
+    EXPECT_NE(point.find(";dc_shade_point;"), std::string::npos) << point;
+    EXPECT_NE(point.find(";dc_bin_fill;"), std::string::npos) << point;
+    for (const char* full : {";dc_shade;", ";dc_shade_albedo;", ";dc_shade_flat;", ";dc_shade_albedo_flat;"})
+        EXPECT_EQ(point.find(full), std::string::npos) << full;
+    const std::string all = kernelNames(device.program(true));
+    EXPECT_NE(all.find(";dc_shade;"), std::string::npos) << all;
+    EXPECT_NE(all.find(";dc_shade_point;"), std::string::npos) << all;
+    EXPECT_EQ(kernelNames(device.program()), all);
+}
+
+// One compositor, a point-sampled frame, then a filtered one (which needs the full shading
+// kernels it did not build yet), then the point-sampled frame again: each as a fresh compositor
+// makes it.
+TEST(Kernels, ACompositorTakesTheFullShadingKernelsWhenAFrameNeedsThem) {
+    const RandomFrame f = makeRandomFrame(5);
+    const DecalScene decals = makeRandomDecals(f, 5, 24);
+    GBuffer filtered_frame = f.gbuffer;
+    filtered_frame.pixel_filter = parsePixelFilter("blackman-harris:3", "");
+    const auto alone = [&](const GBuffer& frame) {
+        ComputeDevice device("cpu");
+        Compositor compositor(device);
+        compositor.setScene(decals);
+        GBuffer out = frame;
+        compositor.composite(out, f.camera);
+        return out.planes.at(Attribute::Albedo).samples;
+    };
+    ComputeDevice device("cpu");
+    Compositor compositor(device);
+    compositor.setScene(decals);
+    std::vector<std::vector<float>> in_turn;
+    for (const GBuffer* frame : std::initializer_list<const GBuffer*>{&f.gbuffer, &filtered_frame, &f.gbuffer}) {
+        GBuffer out = *frame;
+        compositor.composite(out, f.camera);
+        in_turn.push_back(out.planes.at(Attribute::Albedo).samples);
+    }
+    EXPECT_EQ(in_turn[0], alone(f.gbuffer));
+    EXPECT_EQ(in_turn[1], alone(filtered_frame));
+    EXPECT_EQ(in_turn[2], in_turn[0]);
+    EXPECT_NE(in_turn[1], in_turn[0]) << "the filter changed nothing: the test shows nothing";
+}
+
 TEST(Kernels, BackgroundAndNoDecalPixelsPassThroughBitExact) {
     RandomFrame f = makeRandomFrame(3);
     Plane& depth = f.gbuffer.planes.at(Attribute::Depth);

@@ -41,13 +41,12 @@ public:
     const DeviceInfo& info() const { return info_; }
     cl::Context& context() { return context_; }
     cl::CommandQueue& queue() { return queue_; }
-    // The kernels, each program built on first use. program() holds every kernel but the shading
-    // kernels of filtered and texture-space frames, whose inlined filter paths are most of a cold
-    // build (over 9 minutes on NVIDIA's compiler): point-sampled frames never wait for them.
-    // fullProgram() holds every kernel. Both throw Error(Device) with the device name, options and
-    // full build log.
-    cl::Program& program();
-    cl::Program& fullProgram();
+    // The kernels, built on first use. Without `full_shading`, every kernel but the shading kernels
+    // of filtered and texture-space frames, whose inlined filter paths are most of a cold build
+    // (over 9 minutes on NVIDIA's compiler), so that point-sampled work never waits for them; with
+    // it, or once that program exists, every kernel. Throws Error(Device) with the device name,
+    // options and full build log.
+    cl::Program& program(bool full_shading = false);
 
 private:
     cl::Program build(const std::string& options);

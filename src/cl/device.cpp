@@ -147,16 +147,15 @@ ComputeDevice::ComputeDevice(DeviceInfo info) : info_(std::move(info)) {
     }
 }
 
-cl::Program& ComputeDevice::program() {
+cl::Program& ComputeDevice::program(bool full_shading) {
+    if (full_shading && !full_built_) {
+        full_program_ = build(buildOptions());
+        full_built_ = true;
+    }
+    if (full_built_) return full_program_;
     if (!built_) program_ = build(buildOptions() + " -DDC_POINT_SHADING_ONLY");  // (kernels/shading.cl)
     built_ = true;
     return program_;
-}
-
-cl::Program& ComputeDevice::fullProgram() {
-    if (!full_built_) full_program_ = build(buildOptions());
-    full_built_ = true;
-    return full_program_;
 }
 
 cl::Program ComputeDevice::build(const std::string& options) {

@@ -71,8 +71,9 @@ std::vector<Attribute> compositedAttributes(const DecalScene& scene) {
 // Everything a frame needs on the device, kept across frames: buffers are reallocated only when
 // a frame is larger than any before it, the pinned staging memory with them.
 struct Compositor::State {
-    explicit State(const cl::Program& program) : kernels(program) {}
-    CompositorKernels kernels;
+    // built by the first frame: from the program without the full shading kernels when that frame
+    // is point-sampled (ComputeDevice::program)
+    std::optional<CompositorKernels> kernels;
     cl::CommandQueue queue;  // this compositor's own, so two compositors on a device overlap
     bool unified = false;    // the device works in host memory (PoCL): buffers are mapped, not copied
     bool cpu = false;        // a CPU device: tile bounds without work-group barriers
@@ -114,7 +115,7 @@ struct Compositor::State {
 
 Compositor::Compositor(ComputeDevice& device) : device_(device) {
     try {
-        state_ = std::make_unique<State>(device_.program());
+        state_ = std::make_unique<State>();
         State& s = *state_;
         s.profiling = device_.profiling();
         s.queue = cl::CommandQueue(device_.context(), device_.info().device,
@@ -364,7 +365,9 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             cl::Event e_tiles, e_bounds, e_cdepth, e_cmask, e_ccount, e_cscan, e_cfill, e_count, e_scan, e_fill;
             const cl::Buffer& depth = s.depth.device();
             const cl::Buffer& position = s.position.device();
-            CompositorKernels& k = s.kernels;
+            const bool full_shading = params.filter_taps > 0 || params.rest_decals;
+            if (!s.kernels) s.kernels.emplace(device_.program(full_shading));
+            CompositorKernels& k = *s.kernels;
             if (binned) {
                 e_tiles = s.cpu ? k.tile_bounds_serial(
                                     cl::EnqueueArgs(queue, cl::NDRange(roundUp(tiles, kBinGroupSize))),
@@ -423,11 +426,10 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             const bool flat = std::all_of(s.scene.decals.begin(), s.scene.decals.end(), [](const Decal& d) {
                 return d.kind == DecalKind::Box || d.kind == DecalKind::Frustum;
             });
-            const bool point = params.filter_taps == 0 && !params.rest_decals;
             CompositorKernels::Shade& shade =
                 k.shading((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0) |
-                              (point ? DC_VARIANT_POINT : 0),
-                          [&]() -> const cl::Program& { return device_.fullProgram(); });
+                              (full_shading ? 0 : DC_VARIANT_POINT),
+                          [&]() -> const cl::Program& { return device_.program(true); });
             // Binned, one work-group per screen tile: its work-items walk the same decal list. Unbinned
             // the same groups: PoCL keeps a work-group's private variables on its thread's stack, and
             // the groups it picks itself for a whole frame (40 x 78) overflowed it.

@@ -12,7 +12,7 @@ namespace decalcomp {
 using cl::Buffer;
 
 struct CompositorKernels {
-    // Every kernel of `program` (ComputeDevice::program()); the full shading kernels come later.
+    // Every kernel of `program` (ComputeDevice::program) but the full shading ones, which come later.
     explicit CompositorKernels(const cl::Program& program);
 
     // frame, depth plane, position plane, tile depth ranges: a work-group per tile (GPUs), or a
@@ -52,7 +52,7 @@ struct CompositorKernels {
                                     Buffer, Buffer, Buffer, Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer,
                                     Buffer, Buffer>;
     // The shading kernel of a variant (DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT | DC_VARIANT_POINT
-    // bits); those without DC_VARIANT_POINT are taken from `full` (ComputeDevice::fullProgram,
+    // bits); those without DC_VARIANT_POINT are taken from `full` (ComputeDevice::program(true),
     // called only then) the first time one is asked for.
     Shade& shading(int variant, const std::function<const cl::Program&()>& full);
 
