@@ -360,7 +360,9 @@ int main(int argc, char** argv) {
         std::fflush(info);
 
         const auto build0 = std::chrono::steady_clock::now();
-        Compositor compositor(device);  // builds the program
+        // the program the cases need: the full one when they are filtered (ComputeDevice::program)
+        device.program(parsePixelFilter(opt.pixel_filter, "--pixel-filter").enabled());
+        Compositor compositor(device);
         fmt::print(info, "program build: {:.0f} ms\n\n",
                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - build0).count());
 
