@@ -3,43 +3,50 @@
 # On the development machine, in the project root:
 #   sh ../shared/gpu/prepare.sh && cp build/decalcomp-bench .gpu/ && cp tools/bench/gpu-round.sh .gpu/
 # then the device tool with carry [".gpu"] and: sh .gpu/gpu-round.sh
-# The first run builds the kernels (minutes on NVIDIA; the driver caches them for the runs after).
-# Everything lands in $OUT (the device tool's output folder), one log per step (plain file names:
-# the device tool does not bring back names with odd characters).
+# The first run builds the kernels: minutes on NVIDIA (the point-sampled program first; the filter's
+# full program only in the last step). Results land in $OUT (the device tool's output folder) as
+# three files, since the tool brings back only a few: machine.txt, run.log (every step's report)
+# and results.csv (every step's CSV rows, each led by the step's name). Each step appends as it
+# finishes, so a call that runs out of time still brings back the steps before.
 set -u
-E="sh .gpu/opencl-env.sh"
-B=./.gpu/decalcomp-bench
+E=${E:-sh .gpu/opencl-env.sh}
+B=${B:-./.gpu/decalcomp-bench}
 OUT=${OUT:-/tmp/gpu-round}
 mkdir -p "$OUT"
 { date -u; nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv; $E clinfo -l; } >"$OUT/machine.txt" 2>&1
 
-# warm-up: builds and caches the program of point-sampled frames (the filter's full program is
-# built by the last step, which may run out of a call's time on a cold machine)
-$E $B --device nvidia --quick >"$OUT/warmup.log" 2>&1
+# step NAME BENCH-ARGS...: one bench run; its report to run.log, its CSV rows to results.csv
+step() {
+    name=$1
+    shift
+    echo "== $name: $(date -u +%H:%M:%S) decalcomp-bench $*" >>"$OUT/run.log"
+    $E $B --device nvidia "$@" --csv /tmp/step.csv >>"$OUT/run.log" 2>&1
+    [ -f /tmp/step.csv ] && sed "s/^/$name,/" /tmp/step.csv >>"$OUT/results.csv"
+    rm -f /tmp/step.csv
+}
+
+# warm-up: builds and caches the point-sampled program
+step warmup --quick
 
 # Issue 9: composite() against its transfer floors, the kernels against the copy rate, 4096 against 1
-$E $B --device nvidia --repeat 10 --sizes 1920x1080,3840x2160 --counts 1,1024,4096 --modes binned \
-    --csv "$OUT/issue9.csv" >"$OUT/issue9.log" 2>&1
+step issue9 --repeat 10 --sizes 1920x1080,3840x2160 --counts 1,1024,4096 --modes binned
 for edge in 3 6; do
-    $E $B --device nvidia --repeat 20 --sizes 1920x1080,3840x2160 --counts 1,4096 --modes binned --no-transfers \
-        --same-coverage $edge --csv "$OUT/same-coverage-$edge.csv" >"$OUT/same-coverage-$edge.log" 2>&1
+    step same-coverage-$edge --repeat 20 --sizes 1920x1080,3840x2160 --counts 1,4096 --modes binned --no-transfers \
+        --same-coverage $edge
 done
 
 # Issue 14: the beauty update's cost, alternated twice
 for round in 1 2; do
-    for beauty in without with; do
-        flag=""
-        [ "$beauty" = with ] && flag=--beauty
-        $E $B --device nvidia --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers \
-            $flag --csv "$OUT/beauty-$beauty-$round.csv" >"$OUT/beauty-$beauty-$round.log" 2>&1
-    done
+    step beauty-without-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers
+    step beauty-with-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers --beauty
 done
 
-# Issue 15: Blender's default filter against point samples, alternated twice
+# Issue 15: Blender's default filter against point samples, alternated twice (the first filtered
+# run builds the full program)
 for round in 1 2; do
     for filter in none blackman-harris:3; do
-        $E $B --device nvidia --repeat 10 --sizes 1920x1080 --counts 1024 --modes binned --no-transfers \
-            --pixel-filter $filter --csv "$OUT/filter-${filter%%:*}-$round.csv" >"$OUT/filter-${filter%%:*}-$round.log" 2>&1
+        step "filter-${filter%%:*}-$round" --repeat 10 --sizes 1920x1080 --counts 1024 --modes binned --no-transfers \
+            --pixel-filter $filter
     done
 done
 date -u >>"$OUT/machine.txt"
