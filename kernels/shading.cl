@@ -404,7 +404,7 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                    mask_weights, occlusion_maps, beauty, light, rest_points, rest_frames, VARIANT)
 
 /* Every target, kind and blast occlusion; then leaner kernels the host picks when a scene fits.
- * The host builds these four only for filtered and texture-space frames (ComputeDevice::fullProgram):
+ * The host builds these four only for filtered and texture-space frames (ComputeDevice::program(true)):
  * a program built with DC_POINT_SHADING_ONLY leaves them out. */
 #ifndef DC_POINT_SHADING_ONLY
 __kernel void dc_shade(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(0); }

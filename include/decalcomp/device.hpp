@@ -54,8 +54,7 @@ private:
     DeviceInfo info_;
     cl::Context context_;
     cl::CommandQueue queue_;
-    cl::Program program_, full_program_;
-    bool built_ = false, full_built_ = false;
+    cl::Program program_, full_program_;  // null until built
     bool profiling_ = true;
 };
 

@@ -148,13 +148,9 @@ ComputeDevice::ComputeDevice(DeviceInfo info) : info_(std::move(info)) {
 }
 
 cl::Program& ComputeDevice::program(bool full_shading) {
-    if (full_shading && !full_built_) {
-        full_program_ = build(buildOptions());
-        full_built_ = true;
-    }
-    if (full_built_) return full_program_;
-    if (!built_) program_ = build(buildOptions() + " -DDC_POINT_SHADING_ONLY");  // (kernels/shading.cl)
-    built_ = true;
+    if (full_shading && !full_program_()) full_program_ = build(buildOptions());
+    if (full_program_()) return full_program_;
+    if (!program_()) program_ = build(buildOptions() + " -DDC_POINT_SHADING_ONLY");  // (kernels/shading.cl)
     return program_;
 }
 

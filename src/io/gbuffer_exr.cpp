@@ -101,13 +101,12 @@ void forEachOverlapRun(const Imath::Box2i& window, const ExrPart& part, Visit vi
     const long long channel_width = (long long)dw.max.x - dw.min.x + 1;
     const int x0 = std::max(window.min.x, dw.min.x), x1 = std::min(window.max.x, dw.max.x);
     const int y0 = std::max(window.min.y, dw.min.y), y1 = std::min(window.max.y, dw.max.y);
-    // a run ends at the row's end, or at a tile's right edge in tiled parts
-    const int run_width = part.chunks.tiled ? part.chunks.tile_width : x1 - x0 + 1;
+    const int tile = part.chunks.tile_width;
     for (int y = y0; y <= y1; ++y)
         for (int x = x0; x <= x1;) {
+            // a run ends at the row's end, or at a tile's right edge in tiled parts
             int end = x1 + 1;
-            if (part.chunks.tiled)
-                end = std::min(end, dw.min.x + ((x - dw.min.x) / run_width + 1) * run_width);
+            if (part.chunks.tiled) end = std::min(end, dw.min.x + ((x - dw.min.x) / tile + 1) * tile);
             if (part.isDecodedAt(x, y))
                 visit(std::size_t(y - window.min.y) * width + std::size_t(x - window.min.x),
                       std::size_t((long long)(y - dw.min.y) * channel_width + (x - dw.min.x)), x, y, end - x);
@@ -212,15 +211,16 @@ std::size_t store(const std::vector<ExrImage*>& files, const ChannelMapping& map
                     std::memcpy(p, &value, sizeof value);
                     ++run_changed;
                 }
-                count = 0;
-            }
-            for (int k = 0; k < count; ++k) {
-                const float value = plane.at(frame + std::size_t(k), c);
-                const std::size_t at = sample + std::size_t(k);
-                const float before = io::sampleAsFloat(channel, at);
-                if (sameBits(value, before)) continue;
-                io::storeSample(channel, at, value);
-                run_changed += !sameBits(io::sampleAsFloat(channel, at), before);  // not rounded back (half, uint)
+            } else {
+                for (int k = 0; k < count; ++k) {
+                    const float value = plane.at(frame + std::size_t(k), c);
+                    const std::size_t at = sample + std::size_t(k);
+                    const float before = io::sampleAsFloat(channel, at);
+                    if (sameBits(value, before)) continue;
+                    io::storeSample(channel, at, value);
+                    // a half or uint sample may round back to its old bits
+                    run_changed += !sameBits(io::sampleAsFloat(channel, at), before);
+                }
             }
             if (run_changed) part.markChanged(x, y);  // a run lies in one chunk
             changed += run_changed;
