@@ -152,14 +152,16 @@ TEST(BlenderTruth, AntialiasedFrameMatchesCycles) {
     EXPECT_LT(point.psnr, 32.0);
     // Mixed pixels (an averaged normal, or a depth jump to a neighbour: silhouettes and creases)
     // should come out no worse than point-sampled ones (docs/pixel-filter.md "Mixed pixels").
-    // Tolerance 0.025 (the 256-spp truth's own noise is about 0.003 rms per channel). Measured over
+    // Tolerance 0.03 (the 256-spp truth's own noise is about 0.003 rms per channel). Measured over
     // 1404 such pixels: with the averaged plane at silhouettes none (worst 0.0202) at 34.06 dB; with
     // silhouettes split between their surfaces 41.49 dB, and 1 pixel worse, by 0.122 (x 108, y 117,
     // where a third surface shows between the two the split takes); with creases split too 46.33 dB,
-    // the same pixel worse; since a split must explain the pixel's normal 47.06 dB and none worse.
+    // the same pixel worse; since a split must explain the pixel's normal 47.06 dB and none worse
+    // (worst by 0.0249 on the 2-core AVX-512 VM: 0.025 left no room for another CPU's rounding, and
+    // the test failed once in a full run; the pixels that failed a split were worse by 0.12).
     const MixedPixels mixed = compareMixedPixels(test::dataPath("blender-aa/gbuffer.exr"), result,
-                                                 readExr(dir.file("point.exr")), truth, 0.025);
-    std::printf("mixed pixels: %zu, worse than point-sampled by > 0.025: %zu (worst by %.4f); filtered %.2f dB, "
+                                                 readExr(dir.file("point.exr")), truth, 0.03);
+    std::printf("mixed pixels: %zu, worse than point-sampled by > 0.03: %zu (worst by %.4f); filtered %.2f dB, "
                 "point %.2f dB\n",
                 mixed.pixels, mixed.worse, mixed.worst_excess, mixed.filtered_psnr, mixed.point_psnr);
     EXPECT_GT(mixed.pixels, 500u);
