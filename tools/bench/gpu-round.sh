@@ -15,12 +15,13 @@ OUT=${OUT:-/tmp/gpu-round}
 mkdir -p "$OUT"
 { date -u; nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv; $E clinfo -l; } >"$OUT/machine.txt" 2>&1
 
-# step NAME BENCH-ARGS...: one bench run; its report to run.log, its CSV rows to results.csv
+# step NAME BENCH-ARGS...: one bench run; its report to run.log, its CSV rows to results.csv.
+# KDIR=dir step ...: the kernels from that folder instead of the binary's (an A/B of a kernel change)
 step() {
     name=$1
     shift
-    echo "== $name: $(date -u +%H:%M:%S) decalcomp-bench $*" >>"$OUT/run.log"
-    $E $B --device nvidia "$@" --csv /tmp/step.csv >>"$OUT/run.log" 2>&1
+    echo "== $name: $(date -u +%H:%M:%S) ${KDIR:+DECALCOMP_KERNEL_DIR=$KDIR }decalcomp-bench $*" >>"$OUT/run.log"
+    env ${KDIR:+DECALCOMP_KERNEL_DIR=$KDIR} $E $B --device nvidia "$@" --csv /tmp/step.csv >>"$OUT/run.log" 2>&1
     [ -f /tmp/step.csv ] && sed "s/^/$name,/" /tmp/step.csv >>"$OUT/results.csv"
     rm -f /tmp/step.csv
 }
@@ -35,10 +36,16 @@ for edge in 3 6; do
         --same-coverage $edge
 done
 
-# Issue 14: the beauty update's cost, alternated twice
+# Issue 14: the beauty update's cost, alternated twice; with KBEFORE=dir also the kernels there
 for round in 1 2; do
     step beauty-without-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers
     step beauty-with-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers --beauty
+    if [ -n "${KBEFORE:-}" ]; then
+        KDIR=$KBEFORE step beauty-before-without-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 \
+            --modes binned --no-transfers
+        KDIR=$KBEFORE step beauty-before-with-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 \
+            --modes binned --no-transfers --beauty
+    fi
 done
 
 # Issue 15: Blender's default filter against point samples, alternated twice (the first filtered
