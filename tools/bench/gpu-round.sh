@@ -8,7 +8,10 @@
 # three files, since the tool brings back only a few: machine.txt, run.log (every step's report)
 # and results.csv (every step's CSV rows, each led by the step's name). Each step appends as it
 # finishes, so a call that runs out of time still brings back the steps before.
+# The NVIDIA compiler's cache goes to .gpu/nvc and comes back as $OUT/nvc.tgz: unpacked into .gpu/ on
+# the development machine, the next call carries it and skips the cold builds (minutes each).
 set -u
+export CUDA_CACHE_PATH=${CUDA_CACHE_PATH:-$PWD/.gpu/nvc} CUDA_CACHE_MAXSIZE=${CUDA_CACHE_MAXSIZE:-2147483647}
 E=${E:-sh .gpu/opencl-env.sh}
 B=${B:-./.gpu/decalcomp-bench}
 OUT=${OUT:-/tmp/gpu-round}
@@ -26,8 +29,14 @@ step() {
     rm -f /tmp/step.csv
 }
 
+# the compiler's cache into $OUT, after each build (a call cut short keeps what was built)
+save_cache() {
+    [ -d "$CUDA_CACHE_PATH" ] && tar czf "$OUT/nvc.tgz" -C "$(dirname "$CUDA_CACHE_PATH")" "$(basename "$CUDA_CACHE_PATH")"
+}
+
 # warm-up: builds and caches the point-sampled program
 step warmup --quick
+save_cache
 
 # Issue 9: composite() against its transfer floors, the kernels against the copy rate, 4096 against 1
 step issue9 --repeat 10 --sizes 1920x1080,3840x2160 --counts 1,1024,4096 --modes binned
@@ -54,6 +63,8 @@ for round in 1 2; do
     for filter in none blackman-harris:3; do
         step "filter-${filter%%:*}-$round" --repeat 10 --sizes 1920x1080 --counts 1024 --modes binned --no-transfers \
             --pixel-filter $filter
+        [ "$round" = 1 ] && save_cache
     done
 done
 date -u >>"$OUT/machine.txt"
+save_cache
