@@ -7,6 +7,8 @@
 /* Relative and absolute slack on depth ranges, for float rounding in both sides of the test. */
 #define DC_DEPTH_SLACK_REL 1e-4f
 #define DC_DEPTH_SLACK_ABS 1e-6f
+/* pixels of slack for the rounding of a decal's projected corners against its pixels' rays */
+#define DC_RANGE_ROUNDING 0.01f
 
 /* w of a camera-space point under the projection: -z for perspective, 1 for orthographic. */
 inline float dc_clip_w(__constant const DcFrame* f, float3 p) {
@@ -79,10 +81,24 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
     }
     DcDecalBounds b;
     const float big = 1e9f; /* keeps pixel coordinates in int range */
-    /* pixel-filter taps reach filter_radius pixels (and half a stratum) from their pixel */
-    const float reach = 1.0f + ceil(frame->filter_radius + frame->filter_step);
-    const float x0 = floor(clamp(rect.x, -big, big)) - reach, y0 = floor(clamp(rect.y, -big, big)) - reach;
-    const float x1 = ceil(clamp(rect.z, -big, big)) + reach, y1 = ceil(clamp(rect.w, -big, big)) + reach;
+    /* A point-sampled pixel whose point comes from its depth lies on its centre's ray, so the
+     * decal reaches it only where the centre (x + 0.5) projects inside rect: the range holds those
+     * pixels, with DC_RANGE_ROUNDING for the projections' rounding. Pixel-filter taps reach
+     * filter_radius pixels (and half a stratum) further, and a position pass's points need not lie
+     * on their pixel's ray: those keep a margin of a pixel more. */
+    float x0, y0, x1, y1;
+    if (frame->filter_taps == 0 && frame->depth_convention != DC_DEPTH_POSITION) {
+        x0 = ceil(clamp(rect.x, -big, big) - 0.5f - DC_RANGE_ROUNDING);
+        y0 = ceil(clamp(rect.y, -big, big) - 0.5f - DC_RANGE_ROUNDING);
+        x1 = floor(clamp(rect.z, -big, big) - 0.5f + DC_RANGE_ROUNDING);
+        y1 = floor(clamp(rect.w, -big, big) - 0.5f + DC_RANGE_ROUNDING);
+    } else {
+        const float reach = 1.0f + ceil(frame->filter_radius + frame->filter_step);
+        x0 = floor(clamp(rect.x, -big, big)) - reach;
+        y0 = floor(clamp(rect.y, -big, big)) - reach;
+        x1 = ceil(clamp(rect.z, -big, big)) + reach;
+        y1 = ceil(clamp(rect.w, -big, big)) + reach;
+    }
     if (kept == 0 || x1 < 0.0f || y1 < 0.0f || x0 >= (float)frame->width || y0 >= (float)frame->height ||
         any(isnan(rect))) {
         b.tile_x0 = b.tile_y0 = 0;
