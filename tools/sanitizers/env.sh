@@ -10,4 +10,4 @@ if [ -n "$symbolizer" ]; then
 fi
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1:suppressions=$here/asan.supp${ASAN_EXTRA_OPTIONS:+:$ASAN_EXTRA_OPTIONS}"
 export UBSAN_OPTIONS="halt_on_error=1:abort_on_error=1:print_stacktrace=1:suppressions=$here/ubsan.supp${UBSAN_EXTRA_OPTIONS:+:$UBSAN_EXTRA_OPTIONS}"
-export LSAN_OPTIONS="suppressions=$here/lsan.supp:print_suppressions=0"
+export LSAN_OPTIONS="suppressions=$here/lsan.supp:print_suppressions=0${LSAN_EXTRA_OPTIONS:+:$LSAN_EXTRA_OPTIONS}"
