@@ -86,18 +86,19 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
      * pixels, with DC_RANGE_ROUNDING for the projections' rounding. Pixel-filter taps reach
      * filter_radius pixels (and half a stratum) further, and a position pass's points need not lie
      * on their pixel's ray: those keep a margin of a pixel more. */
+    const float4 r = clamp(rect, -big, big);
     float x0, y0, x1, y1;
     if (frame->filter_taps == 0 && frame->depth_convention != DC_DEPTH_POSITION) {
-        x0 = ceil(clamp(rect.x, -big, big) - 0.5f - DC_RANGE_ROUNDING);
-        y0 = ceil(clamp(rect.y, -big, big) - 0.5f - DC_RANGE_ROUNDING);
-        x1 = floor(clamp(rect.z, -big, big) - 0.5f + DC_RANGE_ROUNDING);
-        y1 = floor(clamp(rect.w, -big, big) - 0.5f + DC_RANGE_ROUNDING);
+        x0 = ceil(r.x - 0.5f - DC_RANGE_ROUNDING);
+        y0 = ceil(r.y - 0.5f - DC_RANGE_ROUNDING);
+        x1 = floor(r.z - 0.5f + DC_RANGE_ROUNDING);
+        y1 = floor(r.w - 0.5f + DC_RANGE_ROUNDING);
     } else {
         const float reach = 1.0f + ceil(frame->filter_radius + frame->filter_step);
-        x0 = floor(clamp(rect.x, -big, big)) - reach;
-        y0 = floor(clamp(rect.y, -big, big)) - reach;
-        x1 = ceil(clamp(rect.z, -big, big)) + reach;
-        y1 = ceil(clamp(rect.w, -big, big)) + reach;
+        x0 = floor(r.x) - reach;
+        y0 = floor(r.y) - reach;
+        x1 = ceil(r.z) + reach;
+        y1 = ceil(r.w) + reach;
     }
     if (kept == 0 || x1 < 0.0f || y1 < 0.0f || x0 >= (float)frame->width || y0 >= (float)frame->height ||
         any(isnan(rect))) {
