@@ -94,7 +94,9 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
         x1 = floor(r.z - 0.5f + DC_RANGE_ROUNDING);
         y1 = floor(r.w - 0.5f + DC_RANGE_ROUNDING);
     } else {
-        const float reach = 1.0f + ceil(frame->filter_radius + frame->filter_step);
+        /* the closed form (filter_fast) maps the footprint linearly: a projector's edges, projective
+         * in the decal's space, may reach up to two pixels past the exact projection (measured) */
+        const float reach = (frame->filter_fast ? 3.0f : 1.0f) + ceil(frame->filter_radius + frame->filter_step);
         x0 = floor(r.x) - reach;
         y0 = floor(r.y) - reach;
         x1 = ceil(r.z) + reach;

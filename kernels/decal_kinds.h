@@ -40,6 +40,7 @@ typedef struct {
     int face;
     int has_footprint;
     int filtered; /* a pixel-filter tap: textures are integrated over its stratum (coord_dx, coord_dy) */
+    int integrated; /* integrated over the whole filter (filter_integral.h): coord_dx, coord_dy one pixel away */
     float3 facing; /* camera-space direction a receiving surface faces */
 } DcLookup;
 
@@ -69,6 +70,7 @@ DC_INLINE DcLookup dc_decal_lookup_at(__global const DcDecal* d, float3 p, float
     lk.fade = 0.0f;
     lk.face = 0;
     lk.filtered = soft;
+    lk.integrated = 0;
     const float3 l = dc_affine_global(d->camera_to_local, p);
     float fade = 1.0f;
     if (d->kind == DC_KIND_BOX || d->kind == DC_KIND_VOLUME) {

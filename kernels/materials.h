@@ -5,6 +5,7 @@
 
 #include "shared_types.h"
 #include "decal_kinds.h"
+#include "filter_integral.h"
 
 /* A pixel's material while decals are applied; the normal is in camera space. */
 typedef struct {
@@ -128,6 +129,15 @@ inline float dc_set_coverage(__global const DcDecal* d, float4 albedo, float4 no
                                       : 1.0f;
 }
 
+/* One texture of the decal's set at the lookup: integrated over the pixel filter, or read as
+ * dc_lookup_texel reads it. */
+DC_INLINE float4 dc_set_texel(__constant const DcFrame* frame, __global const DcDecal* d, DcLookup lk,
+                              __global const DcTexture* textures, __global const float4* texels, int index,
+                              const int variant) {
+    return lk.integrated ? dc_integrated_texel(frame, d, lk, textures, texels, index, variant)
+                         : dc_lookup_texel(d, lk, textures, texels, index, variant);
+}
+
 /* Blends one decal into the surface. `weight` is opacity times mask; `surface_normal` the
  * G-buffer's normal in camera space (valid when the frame has normals). `variant` (DC_VARIANT_x, a
  * literal per kernel) compiles away what the kernel excludes. */
@@ -143,13 +153,13 @@ DC_INLINE DcSurface dc_apply_decal(__constant const DcFrame* frame, __global con
     const bool want_emission = !albedo_only && dc_targets(frame, d, DC_TARGET_EMISSION);
     /* Coverage is the albedo's alpha; without an albedo, the first texture of the set's. */
     float4 albedo = (float4)(0.0f), normal = (float4)(0.0f), orm = (float4)(0.0f), emission = (float4)(0.0f);
-    if (d->texture >= 0) albedo = dc_lookup_texel(d, lk, textures, texels, d->texture, variant);
+    if (d->texture >= 0) albedo = dc_set_texel(frame, d, lk, textures, texels, d->texture, variant);
     if (want_normal || (d->texture < 0 && d->normal_texture >= 0))
-        normal = dc_lookup_texel(d, lk, textures, texels, d->normal_texture, variant);
+        normal = dc_set_texel(frame, d, lk, textures, texels, d->normal_texture, variant);
     if (want_orm || (d->texture < 0 && d->normal_texture < 0 && d->orm_texture >= 0))
-        orm = dc_lookup_texel(d, lk, textures, texels, d->orm_texture, variant);
+        orm = dc_set_texel(frame, d, lk, textures, texels, d->orm_texture, variant);
     if (d->emission_texture >= 0 && (want_emission || (d->texture < 0 && d->normal_texture < 0 && d->orm_texture < 0)))
-        emission = dc_lookup_texel(d, lk, textures, texels, d->emission_texture, variant);
+        emission = dc_set_texel(frame, d, lk, textures, texels, d->emission_texture, variant);
     const float coverage = dc_set_coverage(d, albedo, normal, orm, emission);
     const float g = coverage * lk.fade * weight; /* before each target's factor */
     if (!(g > 0.0f)) return s;

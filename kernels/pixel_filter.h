@@ -49,12 +49,36 @@ inline float dc_tap_share(const DcTaps* t, float u, float v) {
     return clamp((t->split_c - (t->split_dir.x * u + t->split_dir.y * v)) / t->split_width + 0.5f, 0.0f, 1.0f);
 }
 
+/* The rays of pixel (x, y)'s footprint (dc_pixel_ray at its centre and one pixel right and down):
+ * one unprojection, the neighbours' by the inverse projection's steps per pixel. */
+inline void dc_pixel_rays(__constant const DcFrame* f, int x, int y, DcTapRays* r) {
+    const __constant float* m = f->inv_projection;
+    const float2 ndc = dc_pixel_ndc(f, x, y);
+    const float4 c = dc_mul4_constant(m, (float4)(ndc, 0.0f, 1.0f));
+    const float su = 2.0f / (float)f->display_width, sv = -2.0f / (float)f->display_height;
+    const float4 cu = c + (float4)(m[0], m[4], m[8], m[12]) * su, cv = c + (float4)(m[1], m[5], m[9], m[13]) * sv;
+    r->dir = c.xyz / c.w;
+    r->dir_u = cu.xyz / cu.w - r->dir;
+    r->dir_v = cv.xyz / cv.w - r->dir;
+    r->origin = r->origin_u = r->origin_v = (float3)(0.0f);
+    if (f->orthographic) { /* the origins on the near plane (NDC z = -1), moving with the pixel */
+        const float4 near = (float4)(m[2], m[6], m[10], m[14]);
+        const float4 o = c - near, ou = cu - near, ov = cv - near;
+        r->origin = o.xyz / o.w;
+        r->origin_u = ou.xyz / ou.w - r->origin;
+        r->origin_v = ov.xyz / ov.w - r->origin;
+        r->dir -= r->origin;
+        r->dir_u -= r->origin_u;
+        r->dir_v -= r->origin_v;
+    }
+}
+
 /* The tap at pixel offset (u, v) on `plane`; false when its ray misses it in front of the camera. */
 inline bool dc_tap_point(const DcTapRays* r, const DcTapPlane* plane, float u, float v, float3* out) {
     const float3 o = r->origin + r->origin_u * u + r->origin_v * v;
     const float3 d = r->dir + r->dir_u * u + r->dir_v * v;
     const float denom = dot(d, plane->n);
-    if (!(fabs(denom) > 1e-6f * length(d))) return false;
+    if (!(denom * denom > 1e-12f * dot(d, d))) return false;
     const float t = dot(plane->p - o, plane->n) / denom;
     if (!(t > 0.0f)) return false;
     *out = o + d * t;
@@ -79,16 +103,25 @@ inline bool dc_tap_plane(__constant const DcFrame* f, const DcTapRays* rays, flo
     plane->p = c; /* the plane's point on the pixel's own ray */
     plane->du = a - c;
     plane->dv = b - c;
-    /* the footprint's corners bound every tap (the plane's map from pixel offsets is projective) */
+    /* The footprint's corners: the ray at offset (u, v) meets the plane at
+     * t = (k - g(u, v)) / e(u, v), g and e affine in (u, v), so only their view depth is computed.
+     * Behind the camera (t <= 0), parallel (e = 0: an infinite depth) or more than
+     * DC_FILTER_GRAZING away in depth: grazing. */
     const float r = f->filter_radius;
-    float reach = 0.0f;
-    for (int k = 0; k < 4; ++k) {
-        float3 corner;
-        if (!dc_tap_point(rays, plane, (k & 1) ? r : -r, (k & 2) ? r : -r, &corner)) return false;
-        if (!(fabs(corner.z - c.z) <= DC_FILTER_GRAZING * fabs(c.z))) return false;
-        reach = fmax(reach, length(corner - c));
+    const float k = dot(c, n);
+    const float g0 = dot(rays->origin, n), gu = dot(rays->origin_u, n), gv = dot(rays->origin_v, n);
+    const float e0 = dot(rays->dir, n), eu = dot(rays->dir_u, n), ev = dot(rays->dir_v, n);
+    for (int corner = 0; corner < 4; ++corner) {
+        const float u = (corner & 1) ? r : -r, v = (corner & 2) ? r : -r;
+        const float t = (k - (g0 + gu * u + gv * v)) / (e0 + eu * u + ev * v);
+        const float z = rays->origin.z + rays->origin_u.z * u + rays->origin_v.z * v +
+                        (rays->dir.z + rays->dir_u.z * u + rays->dir_v.z * v) * t;
+        if (!(t > 0.0f) || !(fabs(z - c.z) <= DC_FILTER_GRAZING * fabs(c.z))) return false;
     }
-    plane->reach = reach + 0.5f * f->filter_step * (length(plane->du) + length(plane->dv));
+    /* Within DC_FILTER_GRAZING of the centre's depth, the projective map strays less than 25 %
+     * from its linear part (docs/pixel-filter.md "Integrated evaluation"): this bounds every tap. */
+    const float step = 0.5f * f->filter_step, du = length(plane->du), dv = length(plane->dv);
+    plane->reach = (1.25f * r + step) * (du + dv);
     return true;
 }
 
@@ -167,10 +200,11 @@ inline float3 dc_clean_normal(__constant const DcFrame* f, __global const float*
 inline void dc_split_silhouette(__constant const DcFrame* f, __global const float* depth_plane,
                                 __global const float4* position_plane, __global const float4* original0,
                                 __global const float4* original1, int has_normal, int x, int y, float3 p,
-                                DcTaps* t) {
+                                float depth_step, DcTaps* t) {
     const float z = -p.z;
-    /* (dc_taps has point-sampled pixels beside background: every 4-neighbour here has a point) */
-    if (!(dc_depth_step(f, depth_plane, position_plane, x, y, z) > DC_MIXED_DEPTH_JUMP * z)) return;
+    /* depth_step: the largest view-depth step to a 4-neighbour (dc_taps has point-sampled pixels
+     * beside background: every 4-neighbour here has a point) */
+    if (!(depth_step > DC_MIXED_DEPTH_JUMP * z)) return;
     /* pass 0: the depth range of the window's clean pixels; pass 1: the nearer and the farther
      * half, each one's nearest pixel and the mean offset */
     const int window = clamp((int)ceil(f->filter_radius + 0.5f) + 1, 2, DC_SPLIT_WINDOW);
@@ -388,32 +422,28 @@ inline DcTaps dc_taps(__constant const DcFrame* f, __global const float* depth_p
                       __global const float4* original1, int has_normal, int x, int y, float3 p, float3 n) {
     DcTaps t;
     t.mode = DC_TAPS_POINT;
+    /* the 4-neighbours' view depths (planar depth reads them without unprojecting): beside
+     * background the pixel is point-sampled; their largest step tells silhouettes */
+    float depth_step = 0.0f;
     for (int k = 0; k < 4; ++k) {
         const int nx = x + (k == 0) - (k == 1), ny = y + (k == 2) - (k == 3);
-        float3 q;
-        if (nx >= 0 && ny >= 0 && nx < f->width && ny < f->height &&
-            !dc_reconstruct(f, depth_plane, position_plane, nx, ny, &q))
-            return t;
+        float zn;
+        if (nx < 0 || ny < 0 || nx >= f->width || ny >= f->height) continue;
+        if (!dc_view_depth(f, depth_plane, position_plane, nx, ny, &zn)) return t;
+        depth_step = fmax(depth_step, fabs(zn + p.z));
     }
-    float3 o1, d1, o2, d2;
-    dc_pixel_ray(f, x, y, &t.rays.origin, &t.rays.dir);
-    dc_pixel_ray(f, x + 1, y, &o1, &d1);
-    dc_pixel_ray(f, x, y + 1, &o2, &d2);
-    t.rays.origin_u = o1 - t.rays.origin;
-    t.rays.origin_v = o2 - t.rays.origin;
-    t.rays.dir_u = d1 - t.rays.dir;
-    t.rays.dir_v = d2 - t.rays.dir;
+    dc_pixel_rays(f, x, y, &t.rays);
     if (dc_tap_plane(f, &t.rays, p, n, &t.plane)) t.mode = DC_TAPS_PLANE;
-    dc_split_silhouette(f, depth_plane, position_plane, original0, original1, has_normal, x, y, p, &t);
+    dc_split_silhouette(f, depth_plane, position_plane, original0, original1, has_normal, x, y, p, depth_step, &t);
     if (has_normal && t.mode == DC_TAPS_PLANE)
         dc_split_crease(f, depth_plane, position_plane, original0, original1, x, y, p, &t);
     return t;
 }
 
-/* Whether decal d may reach any tap on the plane: the footprint's bounding sphere against its volume. */
-inline bool dc_filter_may_reach(__global const DcDecal* d, const DcTapPlane* tp) {
-    const float3 l = dc_affine_global(d->camera_to_local, tp->p);
-    const float3 reach = vload3(0, d->local_scale) * tp->reach;
+/* Whether decal d may reach a footprint of camera-space radius `radius` around the local point l:
+ * the footprint's bounding sphere against its volume. */
+inline bool dc_filter_may_reach_at(__global const DcDecal* d, float3 l, float radius) {
+    const float3 reach = vload3(0, d->local_scale) * radius;
     if (d->kind == DC_KIND_BOX || d->kind == DC_KIND_VOLUME)
         return fabs(l.x) - reach.x <= 0.5f && fabs(l.y) - reach.y <= 0.5f && fabs(l.z) - reach.z <= 0.5f;
     const float r = fmax(reach.x, fmax(reach.y, reach.z));
@@ -422,6 +452,11 @@ inline bool dc_filter_may_reach(__global const DcDecal* d, const DcTapPlane* tp)
     const float half_h = (dist + r) * d->tan_half_fov_y;
     return dist + r >= d->near_plane && dist - r <= d->far_plane && fabs(l.x) - r <= half_h * d->aspect &&
            fabs(l.y) - r <= half_h;
+}
+
+/* Whether decal d may reach any tap on the plane. */
+inline bool dc_filter_may_reach(__global const DcDecal* d, const DcTapPlane* tp) {
+    return dc_filter_may_reach_at(d, dc_affine_global(d->camera_to_local, tp->p), tp->reach);
 }
 
 /* A decal's local vector for a camera-space one (camera_to_local's linear part). */

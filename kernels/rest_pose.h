@@ -50,6 +50,7 @@ DC_INLINE DcSurface dc_apply_baked_decal(__constant const DcFrame* frame, __glob
     lk.fade = 1.0f;
     lk.face = 0;
     lk.filtered = 0;
+    lk.integrated = 0;
     lk.facing = (float3)(0.0f);
     lk.coord = lk.coord_dx = lk.coord_dy = (float3)(r.x, 1.0f - r.y, 0.0f);
     lk.has_footprint = 0;

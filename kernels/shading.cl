@@ -49,6 +49,27 @@ inline float dc_decal_weight(__constant const DcFrame* frame, __global const DcD
     return weight;
 }
 
+/* Decal d integrated over the pixel filter on the pixel's tangent plane in closed form
+ * (filter_integral.h, docs/pixel-filter.md "Integrated evaluation"): one lookup whose edges and
+ * texels take the filter's shares, blended at that coverage. Sets *applied when it reaches. */
+DC_INLINE DcSurface dc_integrated_decal(__constant const DcFrame* frame, __global const DcDecal* d,
+                                        const DcTapPlane* plane, int has_normal, int x, int y,
+                                        __global const float* mask_weights, __global const uint* occlusion_maps,
+                                        __global const DcTexture* textures, __global const float4* texels,
+                                        DcSurface s, const int variant, int* applied) {
+    const bool albedo_only = (variant & DC_VARIANT_ALBEDO_ONLY) != 0;
+    const float3 l = dc_affine_global(d->camera_to_local, plane->p);
+    if (!dc_filter_may_reach_at(d, l, plane->reach)) return s;
+    const DcLookup lk =
+        dc_decal_lookup_integrated(frame, d, l, dc_camera_to_local_vector(d, plane->du),
+                                   dc_camera_to_local_vector(d, plane->dv), plane->p, plane->n, has_normal);
+    if (!(lk.fade > 0.0f)) return s;
+    if (!albedo_only && d->occlusion_map >= 0 && !dc_blast_reaches(d, occlusion_maps, plane->p, plane->n)) return s;
+    *applied = 1;
+    return dc_apply_decal(frame, d, lk, textures, texels, dc_decal_weight(frame, d, mask_weights, x, y), plane->n, s,
+                          variant);
+}
+
 /* Entries of a tile's list whose reach is kept in a bit mask; later ones are tested per tap. */
 #define DC_STACK_MASK_ENTRIES 64
 
@@ -344,9 +365,16 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                 s = dc_point_decal(frame, &decals[index], p, normal, has_normal, p_dx, p_dy, footprint, x, y,
                                    mask_weights, occlusion_maps, textures, texels, s, variant, &applied);
             }
-        } else if (taps.mode == DC_TAPS_PLANE && !frame->rest_decals) {
+        } else if (taps.mode == DC_TAPS_PLANE && !frame->rest_decals && !frame->filter_fast) {
             s = dc_filter_stacked(frame, decals, tile_decals, binned, begin, end, &taps.rays, &taps.plane, has_normal,
                                   x, y, mask_weights, textures, texels, occlusion_maps, s, variant, &applied);
+        } else if (taps.mode == DC_TAPS_PLANE && !frame->rest_decals) {
+            for (int k = begin; k < end; ++k) {
+                const int index = binned ? tile_decals[k] : k;
+                if (pixel_test && !dc_pixel_in_bounds(&decal_bounds[index], x, y)) continue;
+                s = dc_integrated_decal(frame, &decals[index], &taps.plane, has_normal, x, y, mask_weights,
+                                        occlusion_maps, textures, texels, s, variant, &applied);
+            }
         } else if (taps.mode == DC_TAPS_SPLIT && !frame->rest_decals) {
             s = dc_filter_stacked_split(frame, decals, tile_decals, binned, begin, end, &taps, has_normal, x, y,
                                         mask_weights, textures, texels, occlusion_maps, s, variant, &applied);

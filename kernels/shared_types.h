@@ -52,6 +52,9 @@ namespace decalcomp::cl_types {
 
 /* The renderer's pixel filter (pixel_filter.hpp): at most this many quadrature taps per axis. */
 #define DC_MAX_FILTER_TAPS 8
+/* Its edge-spread table (pixel_filter.hpp edgeSpreadTable): rows of normal ratios, steps of distance. */
+#define DC_EDGE_SPREAD_RATIOS 9
+#define DC_EDGE_SPREAD_STEPS 33
 
 /* Material attributes a decal writes, in this order in DcDecal's per-target arrays. */
 #define DC_TARGET_ALBEDO 0
@@ -125,6 +128,13 @@ typedef struct {
     DC_INT pad3;
     DC_FLOAT filter_offset[DC_MAX_FILTER_TAPS];
     DC_FLOAT filter_weight[DC_MAX_FILTER_TAPS];
+    /* Pixels on one tangent plane integrate each decal over the filter in closed form
+     * (docs/pixel-filter.md "Integrated evaluation"): edges through the edge-spread table, texture
+     * reads that cannot weight texels one by one over a box filter_box pixels wide. */
+    DC_FLOAT filter_box;
+    DC_INT filter_fast; /* 1: those pixels take the closed form; 0: the taps */
+    DC_INT pad5, pad6;
+    DC_FLOAT filter_edge[DC_EDGE_SPREAD_RATIOS * DC_EDGE_SPREAD_STEPS];
 } DcFrame;
 
 /* One decal, prepared on the host in double precision. */

@@ -39,7 +39,7 @@ TEST(UsageErrors, MissingArgumentsNameTheCommandAndItsHelp) {
 TEST(UsageErrors, BadPixelFilterNamesTheOptionAndTheSpellings) {
     for (const char* command : {"composite a.exr --decals s.json -o o.exr", "batch in.####.exr -o out/ --decals s.json"}) {
         expectUsageError(test::runCli(std::string(command) + " --pixel-filter gauss:2"),
-                         "--pixel-filter: 'gauss:2': expected none or TYPE:WIDTH with TYPE box, gaussian or "
+                         "--pixel-filter: 'gauss:2': expected none or TYPE:WIDTH[:fast] with TYPE box, gaussian or "
                          "blackman-harris");
         expectUsageError(test::runCli(std::string(command) + " --pixel-filter box:12"),
                          "--pixel-filter: 'box:12': the width must be a number of pixels in (0, 8]");

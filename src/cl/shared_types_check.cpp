@@ -14,6 +14,7 @@
 
 #include "decalcomp/decal.hpp"
 #include "decalcomp/gbuffer.hpp"
+#include "decalcomp/pixel_filter.hpp"
 #define DC_CHECK(condition) static_assert(condition, #condition)
 #define DC_OFFSET(type, member) offsetof(type, member)
 namespace decalcomp::cl_types {
@@ -21,7 +22,7 @@ namespace decalcomp::cl_types {
 
 DC_CHECK(sizeof(DC_INT) == 4 && sizeof(DC_FLOAT) == 4);
 
-DC_CHECK(sizeof(DcFrame) == 400);
+DC_CHECK(sizeof(DcFrame) == 1604);
 DC_CHECK(DC_OFFSET(DcFrame, inv_projection) == 0);
 DC_CHECK(DC_OFFSET(DcFrame, projection) == 64);
 DC_CHECK(DC_OFFSET(DcFrame, world_to_camera) == 128);
@@ -59,6 +60,9 @@ DC_CHECK(DC_OFFSET(DcFrame, filter_radius) == 328);
 DC_CHECK(DC_OFFSET(DcFrame, pad3) == 332);
 DC_CHECK(DC_OFFSET(DcFrame, filter_offset) == 336);
 DC_CHECK(DC_OFFSET(DcFrame, filter_weight) == 368);
+DC_CHECK(DC_OFFSET(DcFrame, filter_box) == 400);
+DC_CHECK(DC_OFFSET(DcFrame, filter_fast) == 404);
+DC_CHECK(DC_OFFSET(DcFrame, filter_edge) == 416);
 
 DC_CHECK(sizeof(DcDecal) == 308);
 DC_CHECK(DC_OFFSET(DcDecal, camera_to_local) == 0);
@@ -157,6 +161,7 @@ DC_CHECK(int(TextureFilter::Linear) == DC_FILTER_LINEAR);
 DC_CHECK(int(TextureFilter::Mip) == DC_FILTER_MIP);
 
 DC_CHECK(kMaxFilterTaps == DC_MAX_FILTER_TAPS);
+DC_CHECK(kEdgeSpreadRatios == DC_EDGE_SPREAD_RATIOS && kEdgeSpreadSteps == DC_EDGE_SPREAD_STEPS);
 
 DC_CHECK(int(DecalTarget::Albedo) == DC_TARGET_ALBEDO);
 DC_CHECK(int(DecalTarget::Normal) == DC_TARGET_NORMAL);

@@ -1,6 +1,9 @@
 #include "compositor/kernel_params.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "decalcomp/error.hpp"
 
@@ -117,6 +120,12 @@ cl_types::DcFrame makeFrameParams(const GBuffer& frame, const Camera& camera, in
         f.filter_offset[i] = float(quadrature.offsets[i]);
         f.filter_weight[i] = float(quadrature.weights[i]);
     }
+    f.filter_box = float(equivalentBoxWidth(frame.pixel_filter));
+    f.filter_fast = frame.pixel_filter.fast ? 1 : 0;
+    // the table takes milliseconds to integrate: a sequence's frames share their filter's
+    thread_local std::pair<PixelFilter, std::vector<double>> edge{PixelFilter{}, edgeSpreadTable(PixelFilter{})};
+    if (!(edge.first == frame.pixel_filter)) edge = {frame.pixel_filter, edgeSpreadTable(frame.pixel_filter)};
+    std::copy(edge.second.begin(), edge.second.end(), f.filter_edge);
     return f;
 }
 

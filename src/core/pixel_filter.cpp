@@ -59,7 +59,7 @@ double PixelFilter::weight1d(double x) const {
 
 std::string PixelFilter::spelling() const {
     for (const FilterName& n : kFilterNames)
-        if (n.type == type) return fmt::format("{}:{:g}", n.name, width);
+        if (n.type == type) return fmt::format("{}:{:g}{}", n.name, width, fast ? ":fast" : "");
     return "none";
 }
 
@@ -71,10 +71,12 @@ PixelFilter parsePixelFilter(const std::string& text, const std::string& what) {
     const auto known = std::find_if(std::begin(kFilterNames), std::end(kFilterNames),
                                     [&](const FilterName& n) { return name == n.name; });
     if (known == std::end(kFilterNames) || colon == std::string::npos)
-        throw inputError(fmt::format("{}'{}': expected none or TYPE:WIDTH with TYPE box, gaussian or "
+        throw inputError(fmt::format("{}'{}': expected none or TYPE:WIDTH[:fast] with TYPE box, gaussian or "
                                      "blackman-harris (e.g. blackman-harris:3)",
                                      prefix, text));
-    const std::string number = text.substr(colon + 1);
+    std::string number = text.substr(colon + 1);
+    const bool fast = number.ends_with(":fast");
+    if (fast) number.resize(number.size() - 5);
     double width = 0.0;
     std::size_t used = 0;
     try {
@@ -84,7 +86,7 @@ PixelFilter parsePixelFilter(const std::string& text, const std::string& what) {
     }
     if (used == 0 || used != number.size() || !(width > 0.0 && width <= 8.0))
         throw inputError(fmt::format("{}'{}': the width must be a number of pixels in (0, 8]", prefix, text));
-    return {known->type, width};
+    return {known->type, width, fast};
 }
 
 namespace {
@@ -129,5 +131,87 @@ FilterQuadrature stratified(const PixelFilter& filter, double max_step, int min_
 }  // namespace
 
 FilterQuadrature filterQuadrature(const PixelFilter& filter) { return stratified(filter, kMaxStep, kMinTaps, kMaxFilterTaps); }
+
+namespace {
+
+// The 1D filter's cumulative share at kCdfSteps + 1 points across [-radius, radius] (midpoint sums).
+constexpr int kCdfSteps = 2048;
+std::vector<double> cumulative(const PixelFilter& filter) {
+    const double r = filter.radius(), h = 2.0 * r / kCdfSteps;
+    std::vector<double> cdf(kCdfSteps + 1, 0.0);
+    for (int k = 0; k < kCdfSteps; ++k) cdf[std::size_t(k) + 1] = cdf[std::size_t(k)] + filter.weight1d(-r + (k + 0.5) * h);
+    for (double& c : cdf) c /= cdf.back();
+    return cdf;
+}
+
+double cdfAt(const std::vector<double>& cdf, double radius, double x) {
+    const double t = (x + radius) / (2.0 * radius) * kCdfSteps;
+    if (!(t > 0.0)) return 0.0;
+    if (!(t < kCdfSteps)) return 1.0;
+    const auto k = std::size_t(t);
+    return cdf[k] + (cdf[k + 1] - cdf[k]) * (t - double(k));
+}
+
+// P(nx X + ny Y <= d) for X, Y independent under the filter: the integral over Y of the filter's
+// weight times X's cumulative share below the edge.
+double edgeSpreadWith(const PixelFilter& filter, const std::vector<double>& cdf, double nx, double ny, double d) {
+    const double r = filter.radius();
+    double a = std::abs(nx), b = std::abs(ny);
+    if (a < b) std::swap(a, b);  // the filter is the same on both axes and on either side
+    if (!(a > 0.0)) return d >= 0.0 ? 1.0 : 0.0;
+    const double h = 2.0 * r / kCdfSteps;
+    double sum = 0.0;
+    for (int k = 0; k < kCdfSteps; ++k) {
+        const double y = -r + (k + 0.5) * h;
+        sum += (cdf[std::size_t(k) + 1] - cdf[std::size_t(k)]) * cdfAt(cdf, r, (d - b * y) / a);
+    }
+    return sum;
+}
+
+}  // namespace
+
+double edgeSpread(const PixelFilter& filter, double nx, double ny, double d) {
+    if (!filter.enabled()) return d >= 0.0 ? 1.0 : 0.0;
+    return edgeSpreadWith(filter, cumulative(filter), nx, ny, d);
+}
+
+std::vector<double> edgeSpreadTable(const PixelFilter& filter) {
+    std::vector<double> table(std::size_t(kEdgeSpreadRatios) * kEdgeSpreadSteps, 1.0);
+    if (!filter.enabled()) return table;
+    const std::vector<double> cdf = cumulative(filter);
+    for (int k = 0; k < kEdgeSpreadRatios; ++k) {
+        const double ratio = double(k) / (kEdgeSpreadRatios - 1), norm = std::sqrt(1.0 + ratio * ratio);
+        const double nx = 1.0 / norm, ny = ratio / norm, support = filter.radius() * (nx + ny);
+        for (int j = 0; j < kEdgeSpreadSteps; ++j)
+            table[std::size_t(k) * kEdgeSpreadSteps + std::size_t(j)] =
+                edgeSpreadWith(filter, cdf, nx, ny, support * j / (kEdgeSpreadSteps - 1));
+    }
+    return table;
+}
+
+double edgeSpreadFromTable(const std::vector<double>& table, double radius, double gu, double gv, double delta) {
+    const double a = std::max(std::abs(gu), std::abs(gv)), b = std::min(std::abs(gu), std::abs(gv));
+    // delta / |g| pixels from the centre, over the support radius (|nx| + |ny|) along g
+    const double t = delta / (radius * (a + b));
+    if (!(std::abs(t) < 1.0)) return t > 0.0 ? 1.0 : 0.0;  // also a flat quantity (a = 0): the hard test
+    const double rk = b / a * (kEdgeSpreadRatios - 1), sj = std::abs(t) * (kEdgeSpreadSteps - 1);
+    const int k = std::min(int(rk), kEdgeSpreadRatios - 2), j = std::min(int(sj), kEdgeSpreadSteps - 2);
+    const double fk = rk - k, fj = sj - j;
+    auto at = [&](int kk, int jj) { return table[std::size_t(kk) * kEdgeSpreadSteps + std::size_t(jj)]; };
+    const double e = (at(k, j) * (1 - fj) + at(k, j + 1) * fj) * (1 - fk) + (at(k + 1, j) * (1 - fj) + at(k + 1, j + 1) * fj) * fk;
+    return t >= 0.0 ? e : 1.0 - e;
+}
+
+double equivalentBoxWidth(const PixelFilter& filter) {
+    if (!filter.enabled()) return 0.0;
+    const double r = filter.radius(), h = 2.0 * r / kCdfSteps;
+    double mass = 0.0, second = 0.0;
+    for (int k = 0; k < kCdfSteps; ++k) {
+        const double x = -r + (k + 0.5) * h, w = filter.weight1d(x);
+        mass += w;
+        second += w * x * x;
+    }
+    return std::sqrt(12.0 * second / mass);
+}
 
 }  // namespace decalcomp
