@@ -47,7 +47,7 @@ inline float dc_slab_share(__constant const DcFrame* f, float a0, float2 g, floa
 }
 
 /* Texels per axis an integrated read weights one by one; wider footprints read a coarser level. */
-#define DC_INTEGRATED_TEXELS 8
+#define DC_INTEGRATED_TEXELS 12
 
 /* The filter's share of each texel column [i, i + 1) that the texel coordinate c0 + g . (u, v)
  * crosses, from *first; returns how many (0 where the footprint misses the texture). */
@@ -154,14 +154,17 @@ DC_INLINE DcLookup dc_decal_lookup_integrated(__constant const DcFrame* f, __glo
     return lk;
 }
 
-/* One texture of the set for an integrated lookup: texel by texel where texels carry the edges,
- * else one read over the filter's equivalent box (a stratum as the taps read it). */
+/* One texture of the set for an integrated lookup: texel by texel where texels carry the edges and
+ * on nearest cube faces, else one read over the filter's equivalent box (a stratum as the taps read
+ * it). */
 DC_INLINE float4 dc_integrated_texel(__constant const DcFrame* f, __global const DcDecal* d, DcLookup lk,
                                      __global const DcTexture* textures, __global const float4* texels, int index,
                                      const int variant) {
-    if (dc_texel_edges(d))
+    const bool flat = (variant & DC_VARIANT_FLAT) != 0;
+    const bool cube_face = !flat && d->kind == DC_KIND_CUBE && d->filter == DC_FILTER_NEAREST;
+    if (dc_texel_edges(d) || cube_face) /* a cube face's texels, from the face of the centre */
         return dc_integrate_slice(f, texels, textures, index, lk.coord.xy, lk.coord_dx.xy - lk.coord.xy,
-                                  lk.coord_dy.xy - lk.coord.xy, 0);
+                                  lk.coord_dy.xy - lk.coord.xy, cube_face ? lk.face : 0);
     lk.coord_dx = lk.coord + (lk.coord_dx - lk.coord) * f->filter_box;
     lk.coord_dy = lk.coord + (lk.coord_dy - lk.coord) * f->filter_box;
     return dc_lookup_texel(d, lk, textures, texels, index, variant);
