@@ -1,6 +1,8 @@
 #pragma once
 // One decal evaluated at one point, as reference::shade does it (reference.cpp): shared with the
-// reference bake (bake.cpp), which evaluates decals at rest points of texels instead of pixels.
+// reference bake (bake.cpp), which evaluates decals at rest points of texels instead of pixels,
+// and with the pixel filter's closed form (filter_integral.cpp).
+#include <cstddef>
 #include <optional>
 #include <vector>
 
@@ -47,5 +49,35 @@ DecalHit hitDecal(const Decal& decal, const glm::dmat4& world_to_local, const gl
 // `ambiguous` when a nearest lookup lies within rounding of a texel edge.
 glm::dvec4 hitTexel(const DecalHit& hit, const Decal& decal, const Texture2D& t, const std::vector<Texture2D>& chain,
                     double slack, bool& ambiguous);
+
+// hitTexel, the footprint's texture coordinates scaled by `scale` around the hit's (the closed
+// form's read over the filter's equivalent box, dc_integrated_texel: local_dx/dy one pixel away).
+glm::dvec4 hitTexelScaled(const DecalHit& hit, const Decal& decal, const Texture2D& t,
+                          const std::vector<Texture2D>& chain, double slack, bool& ambiguous, double scale);
+
+// What the decal offers at a hit: each of its textures as `read(texture index)` gives it
+// (premultiplied RGBA; none where the decal has no such texture) and the hit's world directions.
+template <class Read>
+DecalValues valuesAtHit(const Decal& decal, const DecalHit& hit, Read read) {
+    auto texel = [&](int texture) {
+        if (texture < 0) return std::optional<glm::dvec4>();
+        return std::optional<glm::dvec4>(read(std::size_t(texture)));
+    };
+    DecalValues values;
+    values.albedo = texel(decal.albedo_texture);
+    values.normal = texel(decal.normal_texture);
+    values.orm = texel(decal.orm_texture);
+    values.emission = texel(decal.emission_texture);
+    values.facing = hit.facing;
+    values.right = hit.right;
+    values.up = hit.up;
+    return values;
+}
+
+// Texel (i, j) of slice `slice`, each clamped to the texture.
+glm::dvec4 texelAt(const Texture2D& texture, long i, long j, long slice);
+
+// 1 up to `full`, 0 from `none`, linear between.
+double rampDown(double x, double full, double none);
 
 }  // namespace decalcomp::reference

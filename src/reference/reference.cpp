@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "reference/decal_hit.hpp"
+#include "reference/filter_integral.hpp"
 #include "reference/tap_plane.hpp"
 #include "reference/occlusion.hpp"
 #include "reference/rest_pose.hpp"
@@ -171,8 +172,6 @@ std::vector<std::vector<int>> exactBins(const GBuffer& frame, const Camera& came
     return bins;
 }
 
-namespace {
-
 glm::dvec4 texelAt(const Texture2D& texture, long i, long j, long slice) {
     i = std::clamp<long>(i, 0, texture.width - 1);
     j = std::clamp<long>(j, 0, texture.height - 1);
@@ -180,6 +179,8 @@ glm::dvec4 texelAt(const Texture2D& texture, long i, long j, long slice) {
     return glm::dvec4(
         texture.texels[(std::size_t(slice) * texture.height + std::size_t(j)) * texture.width + std::size_t(i)]);
 }
+
+namespace {
 
 // Bilinear between the four texel centres ((i + 0.5) / width) around texel-space point (x, y);
 // `texel(i, j)` fetches a tap, which may lie one texel outside the image.
@@ -295,10 +296,10 @@ glm::dvec4 sampleCube(const Texture2D& texture, const glm::dvec3& direction, Tex
     return sampleCubeFace(texture, c.face, c.s, c.t, filter);
 }
 
-namespace {
-
 // 1 up to `full`, 0 from `none`, linear between.
 double rampDown(double x, double full, double none) { return std::clamp((none - x) / (none - full), 0.0, 1.0); }
+
+namespace {
 
 // Mip lookup: the levels around lod, each filtered by `level_lookup(level)`, blended.
 template <class LevelLookup>
@@ -422,22 +423,13 @@ DecalHit hitDecal(const Decal& decal, const glm::dmat4& world_to_local, const gl
 
 // A texture of the decal's set at the hit, with the decal's filter (premultiplied RGBA); sets
 // `ambiguous` when a nearest lookup lies within rounding of a texel edge.
-namespace {
-
-// hitTexel, the footprint's texture coordinates scaled by `scale` around the hit's (the closed
-// form's read over the filter's equivalent box, dc_integrated_texel: local_dx/dy one pixel away).
-glm::dvec4 hitTexelScaled(const DecalHit& hit, const Decal& decal, const Texture2D& t,
-                          const std::vector<Texture2D>& chain, double slack, bool& ambiguous, double scale);
-
-}  // namespace
-
 glm::dvec4 hitTexel(const DecalHit& hit, const Decal& decal, const Texture2D& t, const std::vector<Texture2D>& chain,
                     double slack, bool& ambiguous) {
     return hitTexelScaled(hit, decal, t, chain, slack, ambiguous, 1.0);
 }
 
-namespace {
-
+// hitTexel, the footprint's texture coordinates scaled by `scale` around the hit's (the closed
+// form's read over the filter's equivalent box, dc_integrated_texel: local_dx/dy one pixel away).
 glm::dvec4 hitTexelScaled(const DecalHit& hit, const Decal& decal, const Texture2D& t,
                           const std::vector<Texture2D>& chain, double slack, bool& ambiguous, double scale) {
     auto nearEdge = [&](double coord, int size, double within) {
@@ -514,8 +506,6 @@ glm::dvec4 hitTexelScaled(const DecalHit& hit, const Decal& decal, const Texture
     }
     return glm::dvec4(0.0);
 }
-
-}  // namespace
 
 // Where the ray through fractional pixel position (px, py) meets the plane through P with normal
 // n (world space); nullopt when it runs parallel or meets it behind the camera.
@@ -602,193 +592,6 @@ glm::dvec3 encodedNormal(const GBuffer& f, const Camera& camera, glm::dvec3 worl
 
 }  // namespace
 
-namespace {
-
-// The closed form of a decal over the pixel filter on one tangent plane (PixelFilter::fast;
-// kernels/filter_integral.h): the filter's edge-spread shares of straight edges of quantities
-// that change linearly with the pixel offset (u, v).
-struct EdgeSpreads {
-    std::vector<double> table;
-    double radius = 0.0;
-    // the share where a <= a0 + delta, a changing by g per pixel offset
-    double share(glm::dvec2 g, double delta) const { return edgeSpreadFromTable(table, radius, g.x, g.y, delta); }
-    // the share where lo <= a <= hi; `ambiguous` set where an edge is steeper than rounding
-    // (`slack` in a's measure) and lies within the footprint's reach of a0 plus that slack
-    double slab(double a0, glm::dvec2 g, double lo, double hi, double slack, bool& ambiguous) const {
-        const double reach = radius * (std::abs(g.x) + std::abs(g.y));
-        if (slack > 0.05 * reach && (std::abs(lo - a0) <= reach + slack || std::abs(hi - a0) <= reach + slack))
-            ambiguous = true;
-        return std::max(0.0, share(g, hi - a0) - share(g, lo - a0));
-    }
-};
-
-// Texels per axis an integrated read weights one by one; wider footprints read a coarser level
-// (DC_INTEGRATED_TEXELS in kernels/filter_integral.h: keep the two equal).
-constexpr int kIntegratedTexels = 12;
-
-// Whether the decal's texels carry its side edges (dc_texel_edges): box and frustum decals with
-// nearest 2D textures.
-bool texelEdges(const Decal& d) {
-    return (d.kind == DecalKind::Box || d.kind == DecalKind::Frustum) && d.filter == TextureFilter::Nearest &&
-           (d.albedo_texture >= 0 || d.normal_texture >= 0 || d.orm_texture >= 0 || d.emission_texture >= 0);
-}
-
-// The filter's share of each texel column [i, i + 1) that the texel coordinate c0 + g . (u, v)
-// crosses (dc_texel_shares): the first column and the shares. `slack` in texels.
-int texelShares(const EdgeSpreads& e, double c0, glm::dvec2 g, int size, double slack, std::vector<double>& shares,
-                bool& ambiguous) {
-    const double reach = e.radius * (std::abs(g.x) + std::abs(g.y));
-    const double lo = std::clamp(c0 - reach, 0.0, double(size) - 1.0), hi = std::clamp(c0 + reach, 0.0, double(size) - 1.0);
-    const int i0 = int(std::floor(lo));
-    const int i1 = std::min(int(std::floor(hi)), i0 + kIntegratedTexels - 1);
-    // the window's ends matter only where it is cut short: a texel past either end of the
-    // footprint has no share
-    auto nearInteger = [&](double x) { return std::abs(x - std::round(x)) <= slack; };
-    if (int(std::floor(hi)) >= i0 + kIntegratedTexels - 1 && (nearInteger(lo) || nearInteger(hi))) ambiguous = true;
-    shares.clear();
-    double below = e.share(g, double(i0) - c0);
-    for (int i = i0; i <= i1; ++i) {
-        const double next = e.share(g, double(i + 1) - c0);
-        shares.push_back(next - below);
-        below = next;
-    }
-    return i0;
-}
-
-// A nearest 2D texture integrated over the filter (dc_integrate_slice): coordinates st with steps
-// su, sv per pixel offset; zero beyond the texture's edges. `slack` in texture coordinates.
-glm::dvec4 integrateSlice(const EdgeSpreads& e, const std::vector<Texture2D>& chain, glm::dvec2 st, glm::dvec2 su,
-                          glm::dvec2 sv, long slice, double slack, bool& ambiguous) {
-    const Texture2D& base = chain[0];
-    const double span0 = 2.0 * e.radius *
-                         std::max((std::abs(su.x) + std::abs(sv.x)) * base.width, (std::abs(su.y) + std::abs(sv.y)) * base.height);
-    double span = span0;
-    std::size_t level = 0;
-    const double threshold = kIntegratedTexels - 1;
-    while (span > threshold && level + 1 < chain.size()) {
-        if (std::abs(span - threshold) <= 1e-4 * threshold) ambiguous = true;  // the level choice is a step
-        span *= 0.5;
-        ++level;
-    }
-    if (level + 1 < chain.size() && std::abs(span - threshold) <= 1e-4 * threshold) ambiguous = true;
-    const Texture2D& t = chain[level];
-    std::vector<double> share_s, share_t;
-    const int i0 = texelShares(e, st.x * t.width, glm::dvec2(su.x, sv.x) * double(t.width), t.width,
-                               slack * t.width + 1e-5 * t.width, share_s, ambiguous);
-    const int j0 = texelShares(e, st.y * t.height, glm::dvec2(su.y, sv.y) * double(t.height), t.height,
-                               slack * t.height + 1e-5 * t.height, share_t, ambiguous);
-    glm::dvec4 sum(0.0);
-    for (std::size_t j = 0; j < share_t.size(); ++j) {
-        if (!(share_t[j] > 0.0)) continue;
-        glm::dvec4 row(0.0);
-        for (std::size_t i = 0; i < share_s.size(); ++i)
-            row += texelAt(t, long(i0) + long(i), long(j0) + long(j), slice) * share_s[i];
-        sum += row * share_t[j];
-    }
-    return sum;
-}
-
-// How far the footprint's bounding sphere (world radius `radius` around local point l) stays
-// outside the decal's volume, in local units (dc_filter_may_reach_at; <= 0: it may reach).
-double footprintReach(const Decal& decal, const glm::dmat4& world_to_local, const glm::dvec3& l, double radius) {
-    glm::dvec3 reach;
-    for (int r = 0; r < 3; ++r)
-        reach[r] = radius * glm::length(glm::dvec3(world_to_local[0][r], world_to_local[1][r], world_to_local[2][r]));
-    if (decal.kind == DecalKind::Box || decal.kind == DecalKind::Volume)
-        return std::max({std::abs(l.x) - reach.x, std::abs(l.y) - reach.y, std::abs(l.z) - reach.z}) - 0.5;
-    const double r = std::max({reach.x, reach.y, reach.z});
-    if (decal.kind == DecalKind::Cube) return glm::length(l) - r - 0.5;
-    const double dist = -l.z, half_h = (dist + r) * std::tan(glm::radians(decal.fov_y_deg) / 2.0);
-    return std::max({decal.near - (dist + r), dist - r - decal.far, std::abs(l.x) - r - half_h * decal.aspect,
-                     std::abs(l.y) - r - half_h});
-}
-
-// Decal `decal` integrated over the filter on the tangent plane through P with normal n
-// (dc_decal_lookup_integrated): local point l of P moving by lu, lv per pixel offset. Side edges
-// that texels carry are left to the texture reads; the other faces cover their edge-spread share;
-// fades are taken at the centre. The hit's local_dx/dy are l + lu, l + lv.
-DecalHit integratedHit(const Decal& decal, const glm::dmat4& world_to_local, const glm::dvec3& P,
-                       const std::optional<glm::dvec3>& normal, const glm::dvec3& lu, const glm::dvec3& lv,
-                       const EdgeSpreads& e, double slack, const glm::dvec3& axis_slack) {
-    DecalHit out;
-    const glm::dvec3 l(world_to_local * glm::dvec4(P, 1.0));
-    out.local = l;
-    out.local_dx = l + lu;
-    out.local_dy = l + lv;
-    out.footprint = out.filtered = true;
-    const bool texel_edges = texelEdges(decal);
-    const glm::dmat3 axes(decal.world_matrix);
-    out.right = axes[0];
-    out.up = axes[1];
-    bool& a = out.ambiguous;
-    double fade = 1.0;
-    switch (decal.kind) {
-        case DecalKind::Box:
-        case DecalKind::Volume: {
-            fade = e.slab(l.z, {lu.z, lv.z}, -0.5, 0.5, axis_slack.z, a);
-            if (!texel_edges)
-                fade *= e.slab(l.x, {lu.x, lv.x}, -0.5, 0.5, axis_slack.x, a) *
-                        e.slab(l.y, {lu.y, lv.y}, -0.5, 0.5, axis_slack.y, a);
-            if (!(fade > 0.0)) return out;
-            if (decal.axis_fade > 0.0) fade *= std::clamp((0.5 - std::abs(l.z)) / (0.5 * decal.axis_fade), 0.0, 1.0);
-            out.facing = glm::normalize(glm::dvec3(decal.world_matrix[2]));
-            break;
-        }
-        case DecalKind::Frustum: {
-            const double dist = -l.z;
-            const double edge_slack = 2.0 * slack;  // both sides of each comparison carry rounding
-            if (std::abs(dist) <= edge_slack) a = true;
-            if (!(dist > 0.0)) return out;
-            fade = e.slab(dist, {-lu.z, -lv.z}, decal.near, decal.far, edge_slack, a);
-            if (!(fade > 0.0)) return out;
-            if (decal.distance_fade[1] > 0.0) fade *= rampDown(dist, decal.distance_fade[0], decal.distance_fade[1]);
-            out.facing = glm::normalize(glm::dvec3(decal.world_matrix[3]) - P);
-            if (!texel_edges) {
-                const double tan_half = std::tan(glm::radians(decal.fov_y_deg) / 2.0);
-                auto st = [&](const glm::dvec3& v) {
-                    const double hh = -v.z * tan_half;
-                    return glm::dvec2(0.5 + v.x / (2.0 * hh * decal.aspect), 0.5 - v.y / (2.0 * hh));
-                };
-                const glm::dvec2 c = st(l), su = st(l + lu) - c, sv = st(l + lv) - c;
-                const double half_h = dist * tan_half, half_w = half_h * decal.aspect;
-                fade *= e.slab(c.x, {su.x, sv.x}, 0.0, 1.0, 2.0 * edge_slack / half_w, a) *
-                        e.slab(c.y, {su.y, sv.y}, 0.0, 1.0, 2.0 * edge_slack / half_h, a);
-            }
-            break;
-        }
-        case DecalKind::Cube: {
-            const double r = glm::length(l);
-            a = std::abs(r - 0.5) <= slack;
-            if (!(r <= 0.5) || !(r > 0.0)) return out;
-            fade = std::clamp(1.0 - r / 0.5, 0.0, 1.0);
-            out.facing = glm::normalize(glm::dvec3(decal.world_matrix[3]) - P);
-            out.direction_slack = slack / r;
-            const glm::dvec3 d = glm::abs(l / r);
-            const double hi = std::max({d.x, d.y, d.z});
-            const double mid = d.x + d.y + d.z - hi - std::min({d.x, d.y, d.z});
-            a |= hi - mid <= out.direction_slack;  // face choice
-            out.cube = cubeLookup(l / r);
-            const glm::dvec3 face_right[6] = {{0, 0, -1}, {0, 0, 1}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}, {-1, 0, 0}};
-            const glm::dvec3 face_up[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
-            out.right = axes * face_right[out.cube.face];
-            out.up = axes * face_up[out.cube.face];
-            break;
-        }
-    }
-    if (normal && decal.angle_fade_deg[1] > 0.0) {
-        const double cosine = glm::dot(*normal, out.facing);
-        if (std::abs(cosine) <= 1e-4) a = true;  // the back-face cut is a step
-        fade *= cosine <= 0.0 ? 0.0
-                              : rampDown(std::acos(std::min(cosine, 1.0)), glm::radians(decal.angle_fade_deg[0]),
-                                         glm::radians(decal.angle_fade_deg[1]));
-    }
-    out.fade = fade;
-    return out;
-}
-
-}  // namespace
-
-
 ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& scene, double margin) {
     ShadeResult result;
     for (Attribute a : kTargetAttributes)
@@ -808,12 +611,7 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
         return d.angle_fade_deg[1] > 0.0 || d.filter == TextureFilter::Mip || d.occlusion.enabled;  // need normals
     }) || frame.pixel_filter.enabled();
     const FilterQuadrature quadrature = filterQuadrature(frame.pixel_filter);
-    EdgeSpreads edge_spreads;
-    const double filter_box = equivalentBoxWidth(frame.pixel_filter);
-    if (frame.pixel_filter.enabled() && frame.pixel_filter.fast) {
-        edge_spreads.table = edgeSpreadTable(frame.pixel_filter);
-        edge_spreads.radius = frame.pixel_filter.radius();
-    }
+    const FilterIntegral filter_integral = filterIntegral(frame.pixel_filter, quadrature);
     const std::vector<double> view_depths =
         frame.pixel_filter.enabled() ? viewDepths(frame, camera) : std::vector<double>{};
     std::vector<std::vector<Texture2D>> chains;
@@ -882,20 +680,9 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
             // Decal k's textures at a hit (`ambiguous` notes nearest lookups at texel edges).
             auto decalValues = [&](std::size_t k, const DecalHit& hit, double slack, bool& ambiguous) {
                 const Decal& decal = scene.decals[k];
-                auto texel = [&](int texture) {
-                    if (texture < 0) return std::optional<glm::dvec4>();
-                    return std::optional<glm::dvec4>(hitTexel(hit, decal, scene.textures[std::size_t(texture)],
-                                                              chains[std::size_t(texture)], slack, ambiguous));
-                };
-                DecalValues values;
-                values.albedo = texel(decal.albedo_texture);
-                values.normal = texel(decal.normal_texture);
-                values.orm = texel(decal.orm_texture);
-                values.emission = texel(decal.emission_texture);
-                values.facing = hit.facing;
-                values.right = hit.right;
-                values.up = hit.up;
-                return values;
+                return valuesAtHit(decal, hit, [&](std::size_t texture) {
+                    return hitTexel(hit, decal, scene.textures[texture], chains[texture], slack, ambiguous);
+                });
             };
             // On one tangent plane every tap blends every decal in order into the pixel's material,
             // and the pixel takes the taps' mean under the filter's weights (kernels:
@@ -1053,31 +840,10 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                     continue;
                 }
                 if (integrated) {
-                    const glm::dmat3 to_local(world_to_local[k]);
-                    const glm::dvec3 lu = to_local * taps.du, lv = to_local * taps.dv;
-                    // rounding moves each local coordinate by its row of world_to_local
-                    glm::dvec3 axis_slack;
-                    for (int r = 0; r < 3; ++r) {
-                        const glm::dmat4& w = world_to_local[k];
-                        axis_slack[r] = slack * (std::abs(w[0][r]) + std::abs(w[1][r]) + std::abs(w[2][r])) / scale[k];
-                    }
-                    const DecalHit hit =
-                        integratedHit(decal, world_to_local[k], *p, normal, lu, lv, edge_spreads, slack, axis_slack);
-                    bool ambiguous = hit.ambiguous;
-                    // the kernels pass over decals whose volume the footprint's bounding sphere
-                    // misses (dc_filter_may_reach_at), where the linear map reaches further than
-                    // the projective one
-                    const double radius = (1.25 * frame.pixel_filter.radius() + 0.5 * quadrature.step) *
-                                          (glm::length(taps.du) + glm::length(taps.dv));
-                    if (hit.fade > 0.0) {
-                        const double cut = footprintReach(decal, world_to_local[k], hit.local, radius);
-                        if (std::abs(cut) <= 1e-4 * (1.0 + glm::length(hit.local))) ambiguous = true;
-                        if (cut > 0.0) {
-                            if (ambiguous) result.ambiguous[i] = 1;
-                            continue;
-                        }
-                    }
-                    if (!(hit.fade > 0.0)) {
+                    const IntegratedDecalHit at = integratedDecalHit(filter_integral, decal, world_to_local[k],
+                                                                     scale[k], *p, normal, taps.du, taps.dv, slack);
+                    bool ambiguous = at.hit.ambiguous;
+                    if (!(at.hit.fade > 0.0)) {
                         if (ambiguous) result.ambiguous[i] = 1;
                         continue;
                     }
@@ -1086,59 +852,9 @@ ShadeResult shade(const GBuffer& frame, const Camera& camera, const DecalScene& 
                         if (v.ambiguous) result.ambiguous[i] = 1;
                         if (!v.reaches) continue;
                     }
-                    DecalValues values;
-                    const bool cube_face = decal.kind == DecalKind::Cube && decal.filter == TextureFilter::Nearest;
-                    if (texelEdges(decal) || cube_face) {
-                        // texel by texel: the texture's edges are the decal's sides (and nearest cube faces)
-                        const double tan_half = std::tan(glm::radians(decal.fov_y_deg) / 2.0);
-                        const int face = hit.cube.face;
-                        auto st_of = [&](const glm::dvec3& v) {
-                            if (decal.kind == DecalKind::Box) return glm::dvec2(v.x + 0.5, 0.5 - v.y);
-                            if (cube_face) {  // on the face of the centre, even past its edge
-                                const double ma[6] = {v.x, -v.x, v.y, -v.y, v.z, -v.z};
-                                const double sc[6] = {-v.z, v.z, v.x, v.x, v.x, -v.x};
-                                const double tc[6] = {-v.y, -v.y, v.z, -v.z, -v.y, -v.y};
-                                return glm::dvec2(0.5 * (sc[face] / ma[face] + 1.0), 0.5 * (tc[face] / ma[face] + 1.0));
-                            }
-                            const double hh = -v.z * tan_half;
-                            return glm::dvec2(0.5 + v.x / (2.0 * hh * decal.aspect), 0.5 - v.y / (2.0 * hh));
-                        };
-                        const glm::dvec2 st = st_of(hit.local), su = st_of(hit.local_dx) - st, sv = st_of(hit.local_dy) - st;
-                        // how far rounding moves the texture coordinates (s, t)
-                        const double st_slack =
-                            decal.kind == DecalKind::Box ? 2.0 * std::max(axis_slack.x, axis_slack.y)
-                            : cube_face                  ? hit.direction_slack
-                                : 4.0 * slack / (-hit.local.z * tan_half * std::min(1.0, decal.aspect));
-                        auto texel = [&](int texture) {
-                            if (texture < 0) return std::optional<glm::dvec4>();
-                            return std::optional<glm::dvec4>(
-                                integrateSlice(edge_spreads, chains[std::size_t(texture)], st, su, sv,
-                                                                          cube_face ? face : 0, st_slack, ambiguous));
-                        };
-                        values.albedo = texel(decal.albedo_texture);
-                        values.normal = texel(decal.normal_texture);
-                        values.orm = texel(decal.orm_texture);
-                        values.emission = texel(decal.emission_texture);
-                        values.facing = hit.facing;
-                        values.right = hit.right;
-                        values.up = hit.up;
-                    } else {
-                        // one read over the filter's equivalent box, as a tap reads its stratum
-                        auto texel = [&](int texture) {
-                            if (texture < 0) return std::optional<glm::dvec4>();
-                            return std::optional<glm::dvec4>(hitTexelScaled(hit, decal, scene.textures[std::size_t(texture)],
-                                                                            chains[std::size_t(texture)], slack, ambiguous,
-                                                                            filter_box));
-                        };
-                        values.albedo = texel(decal.albedo_texture);
-                        values.normal = texel(decal.normal_texture);
-                        values.orm = texel(decal.orm_texture);
-                        values.emission = texel(decal.emission_texture);
-                        values.facing = hit.facing;
-                        values.right = hit.right;
-                        values.up = hit.up;
-                    }
-                    applyDecal(decal, values, hit.fade * weight, *normal, has, surface);
+                    const DecalValues values =
+                        integratedDecalValues(filter_integral, decal, at, slack, scene.textures, chains, ambiguous);
+                    applyDecal(decal, values, at.hit.fade * weight, *normal, has, surface);
                     if (ambiguous) result.ambiguous[i] = 1;
                     continue;
                 }

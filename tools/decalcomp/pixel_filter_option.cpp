@@ -21,7 +21,9 @@ void addPixelFilterOption(CLI::App& command, std::optional<PixelFilter>& filter)
                 }
             },
             "The renderer's pixel filter, which decals are integrated over: TYPE:WIDTH (box, gaussian, "
-            "blackman-harris; Blender's default 1.5 px is blackman-harris:3), none (point-sampled), or auto (a "
+            "blackman-harris; Blender's default 1.5 px is blackman-harris:3), TYPE:WIDTH:fast (each decal once "
+            "per pixel in closed form: about 4x faster, less exact where decals overlap), none (point-sampled), "
+            "or auto (a "
             "pixelFilter header, else none when the object-id pass holds whole numbers only, else the profile's)")
         ->default_str("auto");
 }
