@@ -211,13 +211,45 @@ TEST(BlenderTruth, PixelFilterFollowsTheFrame) {
         << kinds.output;
 }
 
+// `--pixel-filter auto:fast` chooses the filter as auto does and evaluates it in closed form: on the
+// antialiased frame the profile's blackman-harris:3, as `:fast` (bit for bit the explicit spelling's
+// result); on an unfiltered frame still none.
+TEST(BlenderTruth, AutoFastChoosesLikeAutoAndEvaluatesFast) {
+    test::ScratchDir dir;
+    const auto run = [&](const std::string& folder, const std::string& filter, const std::string& out) {
+        const auto file = [&](const std::string& f) { return test::shellQuote(test::dataPath(folder + "/" + f)); };
+        return test::runCli("composite " + file("gbuffer.exr") + " --decals " + file("scene.json") + " --camera " +
+                            file("camera.json") + " --device cpu --beauty off --pixel-filter " + filter + " -o " +
+                            test::shellQuote(dir.file(out)));
+    };
+    const auto chosen = run("blender-aa", "auto:fast", "auto.exr");
+    ASSERT_EQ(chosen.exit_code, 0) << chosen.output;
+    EXPECT_NE(chosen.output.find("pixel filter: blackman-harris:3:fast (profile blender)"), std::string::npos)
+        << chosen.output;
+    const auto named = run("blender-aa", "blackman-harris:3:fast", "named.exr");
+    ASSERT_EQ(named.exit_code, 0) << named.output;
+    const auto taps = run("blender-aa", "blackman-harris:3", "taps.exr");
+    ASSERT_EQ(taps.exit_code, 0) << taps.output;
+    const ExrImage a = readExr(dir.file("auto.exr")), b = readExr(dir.file("named.exr")), c = readExr(dir.file("taps.exr"));
+    std::vector<float> x, y, z;
+    ASSERT_NE(findFloatChannel(a, "ViewLayer.DiffCol.R", x), nullptr);
+    ASSERT_NE(findFloatChannel(b, "ViewLayer.DiffCol.R", y), nullptr);
+    ASSERT_NE(findFloatChannel(c, "ViewLayer.DiffCol.R", z), nullptr);
+    EXPECT_EQ(x, y);
+    EXPECT_NE(x, z);  // the closed form, not the taps
+    const auto kinds = run("blender-kinds", "auto:fast", "kinds.exr");
+    ASSERT_EQ(kinds.exit_code, 0) << kinds.output;
+    EXPECT_NE(kinds.output.find("pixel filter: none (the normal pass has hard edges: "), std::string::npos)
+        << kinds.output;
+}
+
 // Batch carries the filter like composite: a one-frame sequence of the antialiased frame gives the
 // composite's albedo bit for bit, under auto and under an explicit filter.
 TEST(BlenderTruth, BatchIntegratesOverTheSameFilter) {
     test::ScratchDir dir;
     const auto file = [&](const std::string& f) { return test::shellQuote(test::dataPath("blender-aa/" + f)); };
     std::filesystem::copy_file(test::dataPath("blender-aa/gbuffer.exr"), dir.file("g.0001.exr"));
-    for (const std::string filter : {"auto", "gaussian:2"}) {
+    for (const std::string filter : {"auto", "gaussian:2", "auto:fast"}) {
         const std::string options = " --decals " + file("scene.json") + " --camera " + file("camera.json") +
                                     " --device cpu -q --pixel-filter " + filter;
         const auto single = test::runCli("composite " + file("gbuffer.exr") + options + " -o " +

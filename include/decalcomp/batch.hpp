@@ -32,6 +32,7 @@ struct BatchRequest {
     MappingOptions mapping;
     BeautyOptions beauty;  // --beauty, --relight (FrameOptions::beauty)
     std::optional<PixelFilter> pixel_filter;  // --pixel-filter (FrameOptions::pixel_filter)
+    bool pixel_filter_fast = false;           // --pixel-filter auto:fast (FrameOptions::pixel_filter_fast)
     std::optional<bool> uv_v_down;            // --uv-origin (FrameOptions::uv_v_down)
     bool overwrite_input = false;
     bool force = false;  // composite frames that already hold this scene (FrameTargets::force)

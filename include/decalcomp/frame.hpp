@@ -50,6 +50,7 @@ struct FrameOptions {
     CompositeOptions compositing;
     BeautyOptions beauty;  // --beauty, --relight
     std::optional<PixelFilter> pixel_filter;  // --pixel-filter; nullopt: chosen per frame (frame_pixel_filter.hpp)
+    bool pixel_filter_fast = false;  // --pixel-filter auto:fast: the filter chosen per frame, evaluated `:fast`
     std::optional<bool> uv_v_down;  // --uv-origin top (true) | bottom; nullopt: from the rest meshes (texture space)
     std::optional<double> frame_number;  // picks animated decals' state; nullopt: the scene as written
     std::string label;  // names the frame in warnings (a batch gives its pattern); default: the first input

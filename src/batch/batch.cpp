@@ -550,6 +550,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     options.mapping = request.mapping;
     options.beauty = request.beauty;
     options.pixel_filter = request.pixel_filter;
+    options.pixel_filter_fast = request.pixel_filter_fast;
     options.uv_v_down = request.uv_v_down;
     options.compositing.binned = request.binned;
     options.label = request.input;  // warnings name the sequence, so each is reported once

@@ -150,8 +150,10 @@ void Frame::prepare(const DecalScene& scene, SequenceConventions* sequence) {
         report_.normal_check = settleNormalEncoding(gbuffer_, mapping, camera_);
     }
     const auto choose = [&] {
-        return choosePixelFilter(files_, mapping.profile, options_.mapping.profile_files, gbuffer_,
-                                 options_.pixel_filter);
+        PixelFilterChoice choice = choosePixelFilter(files_, mapping.profile, options_.mapping.profile_files, gbuffer_,
+                                                     options_.pixel_filter);
+        if (options_.pixel_filter_fast && choice.filter.enabled()) choice.filter.fast = true;
+        return choice;
     };
     const PixelFilterChoice filter = sequence ? sequence->pixelFilter(choose) : choose();
     gbuffer_.pixel_filter = filter.filter;

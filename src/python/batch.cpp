@@ -85,7 +85,11 @@ py::dict batch(const std::string& input, const std::string& output, const std::s
     if (auto v = argument(kwargs, "shard")) r.shard = parseShard(v.cast<std::string>());
     r.shard_from_environment = false;  // a script decides its own shard (shard="I/N")
     r.mapping = mappingOptions(kwargs);
-    if (auto v = argument(kwargs, "pixel_filter")) r.pixel_filter = parsePixelFilter(v.cast<std::string>(), "pixel_filter");
+    if (auto v = argument(kwargs, "pixel_filter")) {  // "auto" (the default) and "auto:fast" choose per frame
+        const std::string text = v.cast<std::string>();
+        r.pixel_filter_fast = text == "auto:fast";
+        if (text != "auto" && !r.pixel_filter_fast) r.pixel_filter = parsePixelFilter(text, "pixel_filter");
+    }
 
     std::unique_ptr<ProgressCallback> progress;
     if (auto callback = argument(kwargs, "progress")) progress = std::make_unique<ProgressCallback>(callback);

@@ -158,7 +158,11 @@ public:
         if (auto v = argument(kwargs, "force")) targets.force = v.cast<bool>();
         FrameOptions options;
         options.mapping = mappingOptions(kwargs);
-        if (auto v = argument(kwargs, "pixel_filter")) options.pixel_filter = parsePixelFilter(v.cast<std::string>(), "pixel_filter");
+        if (auto v = argument(kwargs, "pixel_filter")) {  // "auto" (the default) and "auto:fast" choose per frame
+            const std::string text = v.cast<std::string>();
+            options.pixel_filter_fast = text == "auto:fast";
+            if (text != "auto" && !options.pixel_filter_fast) options.pixel_filter = parsePixelFilter(text, "pixel_filter");
+        }
         if (auto v = argument(kwargs, "uv_origin")) options.uv_v_down = uvOriginTopArgument(v.cast<std::string>());
         if (auto v = argument(kwargs, "frame")) options.frame_number = v.cast<double>();
         if (auto v = argument(kwargs, "binned")) options.compositing.binned = v.cast<bool>();

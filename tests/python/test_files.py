@@ -4,7 +4,7 @@ import pathlib
 import pytest
 
 import decalcomp
-from conftest import SAMPLE, run_cli
+from conftest import ROOT, SAMPLE, run_cli
 
 
 def test_composite_files_is_the_cli_byte_for_byte(cli, compositor, tmp_path):
@@ -76,3 +76,16 @@ def test_same_scene_over_its_output_needs_force(compositor, tmp_path):
     assert not second.exists()
     compositor.composite_files(str(first), str(second), camera=str(SAMPLE / "camera.json"), force=True)
     assert second.exists()
+
+
+def test_pixel_filter_auto_fast_is_the_clis(cli, compositor, tmp_path):
+    """pixel_filter takes the CLI's spellings, "auto:fast" among them (docs/pixel-filter.md)."""
+    aa = ROOT / "data" / "blender-aa"
+    scene = decalcomp.Scene.load(str(aa / "scene.json"))
+    comp = decalcomp.Compositor("cpu", scene)
+    report = comp.composite_files(str(aa / "gbuffer.exr"), str(tmp_path / "py.exr"), camera=str(aa / "camera.json"),
+                                  pixel_filter="auto:fast")
+    assert report["pixel_filter"] == "blackman-harris:3:fast (profile blender)"
+    run_cli(cli, "composite", aa / "gbuffer.exr", "--decals", aa / "scene.json", "--camera", aa / "camera.json",
+            "--device", "cpu", "--pixel-filter", "blackman-harris:3:fast", "-o", tmp_path / "cli.exr", "-q")
+    assert (tmp_path / "py.exr").read_bytes() == (tmp_path / "cli.exr").read_bytes()

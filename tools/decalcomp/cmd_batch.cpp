@@ -139,7 +139,7 @@ Command addBatchCommand(CLI::App& app) {
                   "Print the chunks the writes copied and re-encoded, summed over the frames (even with --quiet)");
     addMappingOptions(*cmd, r.mapping, flags->channels, flags->depth);
     addBeautyOptions(*cmd, r.beauty);
-    addPixelFilterOption(*cmd, r.pixel_filter);
+    addPixelFilterOption(*cmd, r.pixel_filter, r.pixel_filter_fast);
     addUvOriginOption(*cmd, r.uv_v_down);
     addPassOptions(*cmd, flags->passes);
     return [flags] { run(*flags); };

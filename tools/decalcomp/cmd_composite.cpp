@@ -63,7 +63,7 @@ Command addCompositeCommand(CLI::App& app) {
                   "(even with --quiet)");
     addMappingOptions(*cmd, flags->options.mapping, flags->channels, flags->depth);
     addBeautyOptions(*cmd, flags->options.beauty);
-    addPixelFilterOption(*cmd, flags->options.pixel_filter);
+    addPixelFilterOption(*cmd, flags->options.pixel_filter, flags->options.pixel_filter_fast);
     addUvOriginOption(*cmd, flags->options.uv_v_down);
     addPassOptions(*cmd, flags->passes);
     return [flags] {

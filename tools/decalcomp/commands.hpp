@@ -28,7 +28,7 @@ void finishMappingOptions(MappingOptions& options, const std::vector<std::string
                           const std::string& depth_flag);
 
 // --pixel-filter TYPE:WIDTH|none|auto: shared by composite and batch.
-void addPixelFilterOption(CLI::App& command, std::optional<PixelFilter>& filter);
+void addPixelFilterOption(CLI::App& command, std::optional<PixelFilter>& filter, bool& fast);
 // --uv-origin auto|bottom|top (texture-space decals): shared by composite and batch.
 void addUvOriginOption(CLI::App& command, std::optional<bool>& uv_v_down);
 // --ocio FILE: the OpenColorIO config of the scene's colour spaces (docs/colour.md).

@@ -5,12 +5,13 @@
 
 namespace decalcomp::cli {
 
-void addPixelFilterOption(CLI::App& command, std::optional<PixelFilter>& filter) {
+void addPixelFilterOption(CLI::App& command, std::optional<PixelFilter>& filter, bool& fast) {
     command
         .add_option_function<std::string>(
             "--pixel-filter",
-            [&filter](const std::string& value) {
-                if (value == "auto") {
+            [&filter, &fast](const std::string& value) {
+                fast = value == "auto:fast";
+                if (value == "auto" || fast) {
                     filter.reset();
                     return;
                 }
@@ -23,8 +24,9 @@ void addPixelFilterOption(CLI::App& command, std::optional<PixelFilter>& filter)
             "The renderer's pixel filter, which decals are integrated over: TYPE:WIDTH (box, gaussian, "
             "blackman-harris; Blender's default 1.5 px is blackman-harris:3), TYPE:WIDTH:fast (each decal once "
             "per pixel in closed form: about 4x faster, less exact where decals overlap), none (point-sampled), "
-            "or auto (a "
-            "pixelFilter header, else none when the object-id pass holds whole numbers only, else the profile's)")
+            "auto (a "
+            "pixelFilter header, else none when the object-id pass holds whole numbers only, else the profile's), or "
+            "auto:fast (that filter, evaluated fast)")
         ->default_str("auto");
 }
 
