@@ -15,7 +15,6 @@
 typedef struct {
     float scale, fk;
     __constant const float* row;
-    __constant const float* integral; /* the same row of the integral's table */
 } DcEdgeSpread;
 
 inline DcEdgeSpread dc_edge_spread_along(__constant const DcFrame* f, float2 g) {
@@ -26,7 +25,6 @@ inline DcEdgeSpread dc_edge_spread_along(__constant const DcFrame* f, float2 g) 
     const int k = min((int)rk, DC_EDGE_SPREAD_RATIOS - 2);
     e.fk = rk - (float)k;
     e.row = f->filter_edge + k * DC_EDGE_SPREAD_STEPS;
-    e.integral = f->filter_edge_integral + k * DC_EDGE_SPREAD_STEPS;
     return e;
 }
 
@@ -40,24 +38,6 @@ inline float dc_edge_share(const DcEdgeSpread* e, float delta) {
     __constant const float* v = e->row + j;
     const float share = mix(mix(v[0], v[1], fj), mix(v[DC_EDGE_SPREAD_STEPS], v[DC_EDGE_SPREAD_STEPS + 1], fj), e->fk);
     return t >= 0.0f ? share : 1.0f - share;
-}
-
-/* The share's integral over a <= a0 + x for x up to delta, in a's units (pixel_filter.hpp
- * edgeSpreadIntegralFromTable): exact for the table's linear interpolation. */
-inline float dc_edge_integral(const DcEdgeSpread* e, float delta) {
-    const float t = delta * e->scale;
-    if (!isfinite(e->scale)) return fmax(delta, 0.0f); /* a flat quantity: a step */
-    const float s = fmin(fabs(t), 1.0f), sj = s * (float)(DC_EDGE_SPREAD_STEPS - 1);
-    const int j = min((int)sj, DC_EDGE_SPREAD_STEPS - 2);
-    const float fj = sj - (float)j, h = s - (float)j / (float)(DC_EDGE_SPREAD_STEPS - 1);
-    __constant const float* v = e->row + j;
-    __constant const float* g = e->integral + j;
-    const float g0 = g[0] + h * 0.5f * (v[0] + mix(v[0], v[1], fj));
-    const float g1 = g[DC_EDGE_SPREAD_STEPS] +
-                     h * 0.5f * (v[DC_EDGE_SPREAD_STEPS] + mix(v[DC_EDGE_SPREAD_STEPS], v[DC_EDGE_SPREAD_STEPS + 1], fj));
-    float integral = mix(g0, g1, e->fk) + fmax(fabs(t) - 1.0f, 0.0f);
-    if (t < 0.0f) integral -= fabs(t); /* G(-t) = G(t) - t */
-    return fmax(integral, 0.0f) / e->scale;
 }
 
 /* The filter's share where lo <= a <= hi, a = a0 + g . (u, v). */
@@ -87,50 +67,18 @@ inline int dc_texel_shares(__constant const DcFrame* f, float c0, float2 g, int 
     return i1 - i0 + 1;
 }
 
-/* The same for bilinear texels: texel i's value spreads as a tent between its neighbours' centres
- * (i - 0.5, i + 1.5), and flat over the half texels at either end (clamp to edge), all of it
- * within [0, size], the decal's sides. With E the share and G its integral, the filter's share of
- * a rising ramp over [a, a + 1] is E(a + 1) - (G(a + 1) - G(a)), of a falling one
- * G(a + 1) - G(a) - E(a). */
-inline int dc_texel_shares_linear(__constant const DcFrame* f, float c0, float2 g, int size, int* first,
-                                  float shares[DC_INTEGRATED_TEXELS]) {
-    const float reach = f->filter_radius * (fabs(g.x) + fabs(g.y));
-    const int i0 = (int)dc_floor_clamped(clamp(c0 - reach - 0.5f, 0.0f, (float)size - 1.0f));
-    const int i1 =
-        min((int)dc_floor_clamped(clamp(c0 + reach + 0.5f, 0.0f, (float)size - 1.0f)), i0 + DC_INTEGRATED_TEXELS - 1);
-    *first = i0;
-    const DcEdgeSpread e = dc_edge_spread_along(f, g);
-    /* E and G at texel centres i - 1, i, i + 1 (relative to c0), rolled along */
-    float e_here = dc_edge_share(&e, (float)i0 + 0.5f - c0), g_here = dc_edge_integral(&e, (float)i0 + 0.5f - c0);
-    float g_left = dc_edge_integral(&e, (float)i0 - 0.5f - c0);
-    for (int i = 0; i <= i1 - i0; ++i) {
-        const int texel = i0 + i;
-        const float x = (float)texel + 1.5f - c0;
-        const float e_right = dc_edge_share(&e, x), g_right = dc_edge_integral(&e, x);
-        const float rising = texel > 0 ? e_here - (g_here - g_left) : e_here - dc_edge_share(&e, -c0);
-        const float falling = texel < size - 1 ? g_right - g_here - e_here : dc_edge_share(&e, (float)size - c0) - e_here;
-        shares[i] = fmax(rising + falling, 0.0f);
-        g_left = g_here;
-        e_here = e_right;
-        g_here = g_right;
-    }
-    return i1 - i0 + 1;
-}
-
-/* A 2D texture (a slice) integrated over the filter, texel by texel (nearest or, with `linear`,
- * bilinear texels): texture coordinates st with steps st_u, st_v per pixel offset; zero beyond the
- * texture's edges, which are the decal's. The filter's shares along s and t multiply (exact for
- * texture axes along the pixel grid). */
+/* A nearest-filtered 2D texture (a slice) integrated over the filter: texture coordinates st with
+ * steps st_u, st_v per pixel offset; zero beyond the texture's edges, which are the decal's. The
+ * filter's shares along s and t multiply (exact for texture axes along the pixel grid). */
 DC_INLINE float4 dc_integrate_slice(__constant const DcFrame* f, __global const float4* texels,
                                     __global const DcTexture* textures, int index, float2 st, float2 st_u,
-                                    float2 st_v, int slice, const bool linear) {
+                                    float2 st_v, int slice) {
     /* the level whose texels the footprint crosses at most DC_INTEGRATED_TEXELS per axis */
     const DcTexture base = textures[index];
     float span = 2.0f * f->filter_radius *
                  fmax((fabs(st_u.x) + fabs(st_v.x)) * (float)base.width, (fabs(st_u.y) + fabs(st_v.y)) * (float)base.height);
     int level = 0;
-    const float fits = (float)(DC_INTEGRATED_TEXELS - (linear ? 2 : 1)); /* a tent reaches a texel further */
-    while (span > fits && level < base.levels - 1) {
+    while (span > (float)(DC_INTEGRATED_TEXELS - 1) && level < base.levels - 1) {
         span *= 0.5f;
         ++level;
     }
@@ -138,11 +86,8 @@ DC_INLINE float4 dc_integrate_slice(__constant const DcFrame* f, __global const 
     const float2 size = (float2)((float)t.width, (float)t.height);
     float share_s[DC_INTEGRATED_TEXELS], share_t[DC_INTEGRATED_TEXELS];
     int i0, j0;
-    const float2 gs = (float2)(st_u.x, st_v.x) * size.x, gt = (float2)(st_u.y, st_v.y) * size.y;
-    const int ns = linear ? dc_texel_shares_linear(f, st.x * size.x, gs, t.width, &i0, share_s)
-                          : dc_texel_shares(f, st.x * size.x, gs, t.width, &i0, share_s);
-    const int nt = linear ? dc_texel_shares_linear(f, st.y * size.y, gt, t.height, &j0, share_t)
-                          : dc_texel_shares(f, st.y * size.y, gt, t.height, &j0, share_t);
+    const int ns = dc_texel_shares(f, st.x * size.x, (float2)(st_u.x, st_v.x) * size.x, t.width, &i0, share_s);
+    const int nt = dc_texel_shares(f, st.y * size.y, (float2)(st_u.y, st_v.y) * size.y, t.height, &j0, share_t);
     float4 sum = (float4)(0.0f);
     for (int j = 0; j < nt; ++j) {
         if (!(share_t[j] > 0.0f)) continue;
@@ -153,11 +98,10 @@ DC_INLINE float4 dc_integrate_slice(__constant const DcFrame* f, __global const 
     return sum;
 }
 
-/* Whether a decal's texels carry its side edges (box and frustum decals with 2D textures: the
- * texture's edges are the volume's or the projector's sides). Bilinear and mip-mapped textures
- * take bilinear texels (mip-mapped ones at the level the footprint picks). */
+/* Whether a decal's texels carry its side edges (box and frustum decals with nearest 2D textures:
+ * the texture's edges are the volume's or the projector's sides). */
 inline bool dc_texel_edges(__global const DcDecal* d) {
-    return (d->kind == DC_KIND_BOX || d->kind == DC_KIND_FRUSTUM) &&
+    return (d->kind == DC_KIND_BOX || d->kind == DC_KIND_FRUSTUM) && d->filter == DC_FILTER_NEAREST &&
            (d->texture >= 0 || d->normal_texture >= 0 || d->orm_texture >= 0 || d->emission_texture >= 0);
 }
 
@@ -220,8 +164,7 @@ DC_INLINE float4 dc_integrated_texel(__constant const DcFrame* f, __global const
     const bool cube_face = !flat && d->kind == DC_KIND_CUBE && d->filter == DC_FILTER_NEAREST;
     if (dc_texel_edges(d) || cube_face) /* a cube face's texels, from the face of the centre */
         return dc_integrate_slice(f, texels, textures, index, lk.coord.xy, lk.coord_dx.xy - lk.coord.xy,
-                                  lk.coord_dy.xy - lk.coord.xy, cube_face ? lk.face : 0,
-                                  d->filter != DC_FILTER_NEAREST);
+                                  lk.coord_dy.xy - lk.coord.xy, cube_face ? lk.face : 0);
     lk.coord_dx = lk.coord + (lk.coord_dx - lk.coord) * f->filter_box;
     lk.coord_dy = lk.coord + (lk.coord_dy - lk.coord) * f->filter_box;
     return dc_lookup_texel(d, lk, textures, texels, index, variant);

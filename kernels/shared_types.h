@@ -135,7 +135,6 @@ typedef struct {
     DC_INT filter_fast; /* 1: those pixels take the closed form; 0: the taps */
     DC_INT pad5, pad6;
     DC_FLOAT filter_edge[DC_EDGE_SPREAD_RATIOS * DC_EDGE_SPREAD_STEPS];
-    DC_FLOAT filter_edge_integral[DC_EDGE_SPREAD_RATIOS * DC_EDGE_SPREAD_STEPS]; /* its integral at the knots */
 } DcFrame;
 
 /* One decal, prepared on the host in double precision. */

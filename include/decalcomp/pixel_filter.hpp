@@ -59,14 +59,6 @@ std::vector<double> edgeSpreadTable(const PixelFilter& filter);  // [ratio * kEd
 // The table interpolated as the kernels do (dc_edge_spread): the share on the side a <= a0 + delta
 // of a quantity a whose change per pixel offset (u, v) is (gu, gv).
 double edgeSpreadFromTable(const std::vector<double>& table, double radius, double gu, double gv, double delta);
-// The edge-spread function's integral from the far side of the support, G(d) = int E, at the
-// table's knots (d from 0 to the support, in units of the support), exact for the table's linear
-// interpolation: what a bilinear texel's ramp under the filter needs (kernels: dc_edge_integral).
-std::vector<double> edgeSpreadIntegralTable(const std::vector<double>& table);
-// G of a quantity a as edgeSpreadFromTable takes it: the integral of its share over a <= a0 + x for
-// x up to delta, in a's units (max(delta, 0) for a flat quantity).
-double edgeSpreadIntegralFromTable(const std::vector<double>& table, const std::vector<double>& integral, double radius,
-                                   double gu, double gv, double delta);
 // The width of the box with the filter's variance: what one texture read integrates where texels
 // cannot be weighted one by one.
 double equivalentBoxWidth(const PixelFilter& filter);

@@ -22,7 +22,7 @@ namespace decalcomp::cl_types {
 
 DC_CHECK(sizeof(DC_INT) == 4 && sizeof(DC_FLOAT) == 4);
 
-DC_CHECK(sizeof(DcFrame) == 2792);
+DC_CHECK(sizeof(DcFrame) == 1604);
 DC_CHECK(DC_OFFSET(DcFrame, inv_projection) == 0);
 DC_CHECK(DC_OFFSET(DcFrame, projection) == 64);
 DC_CHECK(DC_OFFSET(DcFrame, world_to_camera) == 128);
@@ -63,7 +63,6 @@ DC_CHECK(DC_OFFSET(DcFrame, filter_weight) == 368);
 DC_CHECK(DC_OFFSET(DcFrame, filter_box) == 400);
 DC_CHECK(DC_OFFSET(DcFrame, filter_fast) == 404);
 DC_CHECK(DC_OFFSET(DcFrame, filter_edge) == 416);
-DC_CHECK(DC_OFFSET(DcFrame, filter_edge_integral) == 1604);
 
 DC_CHECK(sizeof(DcDecal) == 308);
 DC_CHECK(DC_OFFSET(DcDecal, camera_to_local) == 0);

@@ -126,8 +126,6 @@ cl_types::DcFrame makeFrameParams(const GBuffer& frame, const Camera& camera, in
     thread_local std::pair<PixelFilter, std::vector<double>> edge{PixelFilter{}, edgeSpreadTable(PixelFilter{})};
     if (!(edge.first == frame.pixel_filter)) edge = {frame.pixel_filter, edgeSpreadTable(frame.pixel_filter)};
     std::copy(edge.second.begin(), edge.second.end(), f.filter_edge);
-    const std::vector<double> integral = edgeSpreadIntegralTable(edge.second);
-    std::copy(integral.begin(), integral.end(), f.filter_edge_integral);
     return f;
 }
 

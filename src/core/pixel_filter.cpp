@@ -202,44 +202,6 @@ double edgeSpreadFromTable(const std::vector<double>& table, double radius, doub
     return t >= 0.0 ? e : 1.0 - e;
 }
 
-std::vector<double> edgeSpreadIntegralTable(const std::vector<double>& table) {
-    std::vector<double> integral(table.size(), 0.0);
-    const double h = 1.0 / (kEdgeSpreadSteps - 1);
-    for (int k = 0; k < kEdgeSpreadRatios; ++k) {
-        const double* e = table.data() + std::size_t(k) * kEdgeSpreadSteps;
-        double* g = integral.data() + std::size_t(k) * kEdgeSpreadSteps;
-        // G(0) = int_{-1}^{0} E = int_0^1 (1 - E): E(-t) = 1 - E(t)
-        double below = 0.0;
-        for (int j = 0; j + 1 < kEdgeSpreadSteps; ++j) below += h * (1.0 - 0.5 * (e[j] + e[j + 1]));
-        g[0] = below;
-        for (int j = 1; j < kEdgeSpreadSteps; ++j) g[j] = g[j - 1] + h * 0.5 * (e[j - 1] + e[j]);
-    }
-    return integral;
-}
-
-double edgeSpreadIntegralFromTable(const std::vector<double>& table, const std::vector<double>& integral, double radius,
-                                   double gu, double gv, double delta) {
-    const double a = std::max(std::abs(gu), std::abs(gv)), b = std::min(std::abs(gu), std::abs(gv));
-    const double support = radius * (a + b);  // in a's units
-    if (!(support > 0.0)) return std::max(delta, 0.0);
-    const double t = delta / support;
-    const double rk = b / a * (kEdgeSpreadRatios - 1);
-    const int k = std::min(int(rk), kEdgeSpreadRatios - 2);
-    const double fk = rk - k;
-    // G in support units at |t| (t within the support; beyond it E = 1)
-    const double s = std::min(std::abs(t), 1.0), sj = s * (kEdgeSpreadSteps - 1);
-    const int j = std::min(int(sj), kEdgeSpreadSteps - 2);
-    const double fj = sj - j, h = (s - double(j) / (kEdgeSpreadSteps - 1));
-    auto row = [&](int kk) {
-        const double* e = table.data() + std::size_t(kk) * kEdgeSpreadSteps;
-        const double* g = integral.data() + std::size_t(kk) * kEdgeSpreadSteps;
-        return g[j] + h * 0.5 * (e[j] + (e[j] * (1 - fj) + e[j + 1] * fj));
-    };
-    double g = row(k) * (1 - fk) + row(k + 1) * fk + std::max(std::abs(t) - 1.0, 0.0);
-    if (t < 0.0) g -= std::abs(t);  // G(-t) = G(t) - t
-    return std::max(g, 0.0) * support;
-}
-
 double equivalentBoxWidth(const PixelFilter& filter) {
     if (!filter.enabled()) return 0.0;
     const double r = filter.radius(), h = 2.0 * r / kCdfSteps;

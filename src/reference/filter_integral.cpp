@@ -13,10 +13,10 @@ namespace {
 // (DC_INTEGRATED_TEXELS in kernels/filter_integral.h: keep the two equal).
 constexpr int kIntegratedTexels = 12;
 
-// Whether the decal's texels carry its side edges (dc_texel_edges): box and frustum decals with 2D
-// textures (bilinear texels unless nearest).
+// Whether the decal's texels carry its side edges (dc_texel_edges): box and frustum decals with
+// nearest 2D textures.
 bool texelEdges(const Decal& d) {
-    return (d.kind == DecalKind::Box || d.kind == DecalKind::Frustum) &&
+    return (d.kind == DecalKind::Box || d.kind == DecalKind::Frustum) && d.filter == TextureFilter::Nearest &&
            (d.albedo_texture >= 0 || d.normal_texture >= 0 || d.orm_texture >= 0 || d.emission_texture >= 0);
 }
 
@@ -43,41 +43,17 @@ int texelShares(const EdgeSpreads& e, double c0, glm::dvec2 g, int size, double 
     return i0;
 }
 
-// The same for bilinear texels (dc_texel_shares_linear): texel i a tent between its neighbours'
-// centres, flat over the half texels at either end, within [0, size].
-int texelSharesLinear(const EdgeSpreads& e, double c0, glm::dvec2 g, int size, double slack,
-                      std::vector<double>& shares, bool& ambiguous) {
-    const double reach = e.radius * (std::abs(g.x) + std::abs(g.y));
-    const double lo = std::clamp(c0 - reach - 0.5, 0.0, double(size) - 1.0),
-                 hi = std::clamp(c0 + reach + 0.5, 0.0, double(size) - 1.0);
-    const int i0 = int(std::floor(lo));
-    const int i1 = std::min(int(std::floor(hi)), i0 + kIntegratedTexels - 1);
-    auto nearInteger = [&](double x) { return std::abs(x - std::round(x)) <= slack; };
-    if (int(std::floor(hi)) >= i0 + kIntegratedTexels - 1 && (nearInteger(lo) || nearInteger(hi))) ambiguous = true;
-    auto E = [&](double x) { return e.share(g, x - c0); };
-    auto G = [&](double x) { return e.integrated(g, x - c0); };
-    shares.clear();
-    for (int i = i0; i <= i1; ++i) {
-        const double c = i + 0.5;
-        const double rising = i > 0 ? E(c) - (G(c) - G(c - 1.0)) : E(c) - E(0.0);
-        const double falling = i < size - 1 ? G(c + 1.0) - G(c) - E(c) : E(double(size)) - E(c);
-        shares.push_back(std::max(rising + falling, 0.0));
-    }
-    return i0;
-}
-
-// A 2D texture integrated over the filter texel by texel (dc_integrate_slice; bilinear texels with
-// `linear`): coordinates st with steps su, sv per pixel offset; zero beyond the texture's edges.
-// `slack` in texture coordinates.
+// A nearest 2D texture integrated over the filter (dc_integrate_slice): coordinates st with steps
+// su, sv per pixel offset; zero beyond the texture's edges. `slack` in texture coordinates.
 glm::dvec4 integrateSlice(const EdgeSpreads& e, const std::vector<Texture2D>& chain, glm::dvec2 st, glm::dvec2 su,
-                          glm::dvec2 sv, long slice, bool linear, double slack, bool& ambiguous) {
+                          glm::dvec2 sv, long slice, double slack, bool& ambiguous) {
     const Texture2D& base = chain[0];
     const double span0 =
         2.0 * e.radius *
         std::max((std::abs(su.x) + std::abs(sv.x)) * base.width, (std::abs(su.y) + std::abs(sv.y)) * base.height);
     double span = span0;
     std::size_t level = 0;
-    const double threshold = kIntegratedTexels - (linear ? 2 : 1);
+    const double threshold = kIntegratedTexels - 1;
     while (span > threshold && level + 1 < chain.size()) {
         if (std::abs(span - threshold) <= 1e-4 * threshold) ambiguous = true;  // the level choice is a step
         span *= 0.5;
@@ -86,11 +62,10 @@ glm::dvec4 integrateSlice(const EdgeSpreads& e, const std::vector<Texture2D>& ch
     if (level + 1 < chain.size() && std::abs(span - threshold) <= 1e-4 * threshold) ambiguous = true;
     const Texture2D& t = chain[level];
     std::vector<double> share_s, share_t;
-    const auto shares = linear ? texelSharesLinear : texelShares;
-    const int i0 = shares(e, st.x * t.width, glm::dvec2(su.x, sv.x) * double(t.width), t.width,
-                          slack * t.width + 1e-5 * t.width, share_s, ambiguous);
-    const int j0 = shares(e, st.y * t.height, glm::dvec2(su.y, sv.y) * double(t.height), t.height,
-                          slack * t.height + 1e-5 * t.height, share_t, ambiguous);
+    const int i0 = texelShares(e, st.x * t.width, glm::dvec2(su.x, sv.x) * double(t.width), t.width,
+                               slack * t.width + 1e-5 * t.width, share_s, ambiguous);
+    const int j0 = texelShares(e, st.y * t.height, glm::dvec2(su.y, sv.y) * double(t.height), t.height,
+                               slack * t.height + 1e-5 * t.height, share_t, ambiguous);
     glm::dvec4 sum(0.0);
     for (std::size_t j = 0; j < share_t.size(); ++j) {
         if (!(share_t[j] > 0.0)) continue;
@@ -208,7 +183,6 @@ FilterIntegral filterIntegral(const PixelFilter& filter, const FilterQuadrature&
     out.quadrature_step = quadrature.step;
     if (filter.enabled() && filter.fast) {
         out.edge_spreads.table = edgeSpreadTable(filter);
-        out.edge_spreads.integral = edgeSpreadIntegralTable(out.edge_spreads.table);
         out.edge_spreads.radius = filter.radius();
     }
     return out;
@@ -266,8 +240,8 @@ DecalValues integratedDecalValues(const FilterIntegral& filter, const Decal& dec
                                 : cube_face                  ? hit.direction_slack
                                             : 4.0 * slack / (-hit.local.z * tan_half * std::min(1.0, decal.aspect));
         return valuesAtHit(decal, hit, [&](std::size_t texture) {
-            return integrateSlice(filter.edge_spreads, chains[texture], st, su, sv, cube_face ? face : 0,
-                                  decal.filter != TextureFilter::Nearest, st_slack, ambiguous);
+            return integrateSlice(filter.edge_spreads, chains[texture], st, su, sv, cube_face ? face : 0, st_slack,
+                                  ambiguous);
         });
     }
     // one read over the filter's equivalent box, as a tap reads its stratum

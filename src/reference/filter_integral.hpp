@@ -20,14 +20,10 @@ namespace decalcomp::reference {
 // kernels/filter_integral.h): the filter's edge-spread shares of straight edges of quantities
 // that change linearly with the pixel offset (u, v).
 struct EdgeSpreads {
-    std::vector<double> table, integral;
+    std::vector<double> table;
     double radius = 0.0;
     // the share where a <= a0 + delta, a changing by g per pixel offset
     double share(glm::dvec2 g, double delta) const { return edgeSpreadFromTable(table, radius, g.x, g.y, delta); }
-    // its integral over a <= a0 + x for x up to delta (dc_edge_integral)
-    double integrated(glm::dvec2 g, double delta) const {
-        return edgeSpreadIntegralFromTable(table, integral, radius, g.x, g.y, delta);
-    }
     // the share where lo <= a <= hi; `ambiguous` set where an edge is steeper than rounding
     // (`slack` in a's measure) and lies within the footprint's reach of a0 plus that slack
     double slab(double a0, glm::dvec2 g, double lo, double hi, double slack, bool& ambiguous) const {
