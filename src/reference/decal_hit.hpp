@@ -33,6 +33,10 @@ struct DecalHit {
     glm::dvec3 right{0.0}, up{0.0};  // world directions of growing s and falling t
 };
 
+// A cube decal's facing, face (ambiguous within rounding of a face edge) and face image's right and
+// up, at local point l (0 < |l| <= 0.5) of world point P.
+void cubeFaceAt(const Decal& decal, const glm::dvec3& l, const glm::dvec3& P, double slack, DecalHit& out);
+
 // A pixel-filter tap's stratum in decal space: the local vectors it spans.
 struct Stratum {
     glm::dvec3 su{0.0}, sv{0.0};

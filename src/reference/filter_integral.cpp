@@ -150,17 +150,7 @@ DecalHit integratedHit(const Decal& decal, const glm::dmat4& world_to_local, con
             a = std::abs(r - 0.5) <= slack;
             if (!(r <= 0.5) || !(r > 0.0)) return out;
             fade = std::clamp(1.0 - r / 0.5, 0.0, 1.0);
-            out.facing = glm::normalize(glm::dvec3(decal.world_matrix[3]) - P);
-            out.direction_slack = slack / r;
-            const glm::dvec3 d = glm::abs(l / r);
-            const double hi = std::max({d.x, d.y, d.z});
-            const double mid = d.x + d.y + d.z - hi - std::min({d.x, d.y, d.z});
-            a |= hi - mid <= out.direction_slack;  // face choice
-            out.cube = cubeLookup(l / r);
-            const glm::dvec3 face_right[6] = {{0, 0, -1}, {0, 0, 1}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}, {-1, 0, 0}};
-            const glm::dvec3 face_up[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
-            out.right = axes * face_right[out.cube.face];
-            out.up = axes * face_up[out.cube.face];
+            cubeFaceAt(decal, l, P, slack, out);
             break;
         }
     }

@@ -329,6 +329,25 @@ double stratumCoverage(double inside, double extent, double slack, bool& ambiguo
 
 }  // namespace
 
+// A cube decal's facing, face and face axes at local point l (0 < |l| <= 0.5) of world point P.
+void cubeFaceAt(const Decal& decal, const glm::dvec3& l, const glm::dvec3& P, double slack, DecalHit& out) {
+    const double r = glm::length(l);
+    const glm::dmat3 axes(decal.world_matrix);
+    out.facing = glm::normalize(glm::dvec3(decal.world_matrix[3]) - P);
+    // the direction's rounding error grows as the point nears the centre
+    out.direction_slack = slack / r;
+    const glm::dvec3 a = glm::abs(l / r);
+    const double hi = std::max({a.x, a.y, a.z});
+    const double mid = a.x + a.y + a.z - hi - std::min({a.x, a.y, a.z});
+    out.ambiguous |= hi - mid <= out.direction_slack;  // face choice
+    out.cube = cubeLookup(l / r);
+    // the face image's right and up in local space (faces are seen from inside: mirrored)
+    const glm::dvec3 face_right[6] = {{0, 0, -1}, {0, 0, 1}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}, {-1, 0, 0}};
+    const glm::dvec3 face_up[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
+    out.right = axes * face_right[out.cube.face];
+    out.up = axes * face_up[out.cube.face];
+}
+
 DecalHit hitDecal(const Decal& decal, const glm::dmat4& world_to_local, const glm::dvec3& P,
                   const std::optional<glm::dvec3>& normal, const Footprint& footprint, double slack,
                   const Stratum* stratum) {
@@ -394,19 +413,7 @@ DecalHit hitDecal(const Decal& decal, const glm::dmat4& world_to_local, const gl
             out.ambiguous = std::abs(r - 0.5) <= slack;
             if (r > 0.5 || r == 0.0) return out;
             fade *= std::clamp(1.0 - r / 0.5, 0.0, 1.0);
-            out.facing = glm::normalize(glm::dvec3(decal.world_matrix[3]) - P);
-            // the direction's rounding error grows as the point nears the centre
-            out.direction_slack = slack / r;
-            const glm::dvec3 a = glm::abs(l / r);
-            const double hi = std::max({a.x, a.y, a.z});
-            const double mid = a.x + a.y + a.z - hi - std::min({a.x, a.y, a.z});
-            out.ambiguous |= hi - mid <= out.direction_slack;  // face choice
-            out.cube = cubeLookup(l / r);
-            // the face image's right and up in local space (faces are seen from inside: mirrored)
-            const glm::dvec3 face_right[6] = {{0, 0, -1}, {0, 0, 1}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}, {-1, 0, 0}};
-            const glm::dvec3 face_up[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
-            out.right = axes * face_right[out.cube.face];
-            out.up = axes * face_up[out.cube.face];
+            cubeFaceAt(decal, l, P, slack, out);
             break;
         }
     }
