@@ -151,17 +151,7 @@ PixelFilter filterFor(std::uint32_t seed) {
 TEST_P(FilteredRandomScenes, KernelMatchesReference) {
     test::RandomFrame f = test::makeRandomFrame(GetParam());
     f.gbuffer.pixel_filter = filterFor(GetParam());
-    const DecalScene decals = test::makeRandomDecals(f, GetParam(), 300);
-    const auto [out, c] = test::compositeAndCompare(f, decals);
-    EXPECT_EQ(c.mismatched, 0u) << f.gbuffer.pixel_filter.spelling() << ": max error " << c.max_error << " over "
-                                << c.compared << " pixels";
-    // A pixel is ambiguous when a decision within rounding (a face flush with a surface, a ramp
-    // steeper than rounding) falls anywhere in its footprint, which is 3 px across: the
-    // point-sampled share, dilated by the footprint, is allowed (measured up to 22 %, seed 3).
-    const double allowed = std::min(0.5, 2.5 * test::ambiguousShare(f.gbuffer));
-    EXPECT_LT(double(c.ambiguous), allowed * double(f.gbuffer.pixelCount()))
-        << depthConventionName(f.gbuffer.depth_convention) << " " << f.gbuffer.width << "x" << f.gbuffer.height;
-    EXPECT_GT(double(c.changed), 0.05 * double(f.gbuffer.pixelCount()));
+    test::expectFilteredKernelMatchesReference(f, test::makeRandomDecals(f, GetParam(), 300));
 }
 
 // Binning widens each decal's tiles and depth range by the taps' reach: dropping a decal that a

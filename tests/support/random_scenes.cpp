@@ -2,6 +2,8 @@
 // several test files share them).
 #include "support/random_scenes.hpp"
 
+#include <gtest/gtest.h>
+
 #include <glm/gtc/matrix_transform.hpp>
 #include <algorithm>
 #include <cmath>
@@ -188,6 +190,17 @@ std::pair<GBuffer, Comparison> compositeAndCompare(const RandomFrame& f, const D
     compositor.composite(out, f.camera);
     const auto ref = reference::shade(f.gbuffer, f.camera, decals, roundingMargin(f.gbuffer));
     return {out, compareWithReference(f.gbuffer, out, ref, albedoTolerance(f.gbuffer))};
+}
+
+Comparison expectFilteredKernelMatchesReference(const RandomFrame& f, const DecalScene& decals) {
+    const auto [out, c] = compositeAndCompare(f, decals);
+    EXPECT_EQ(c.mismatched, 0u) << f.gbuffer.pixel_filter.spelling() << ": max error " << c.max_error << " over "
+                                << c.compared << " pixels";
+    const double allowed = std::min(0.5, 2.5 * ambiguousShare(f.gbuffer));
+    EXPECT_LT(double(c.ambiguous), allowed * double(f.gbuffer.pixelCount()))
+        << depthConventionName(f.gbuffer.depth_convention) << " " << f.gbuffer.width << "x" << f.gbuffer.height;
+    EXPECT_GT(double(c.changed), 0.05 * double(f.gbuffer.pixelCount()));
+    return c;
 }
 
 std::size_t binnedUnbinnedDifferences(const RandomFrame& f, const DecalScene& decals) {

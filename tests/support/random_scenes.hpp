@@ -48,6 +48,13 @@ double ambiguousShare(const GBuffer& g);
 // Composites on PoCL and compares with the scalar reference at the frame's stated tolerance.
 std::pair<GBuffer, Comparison> compositeAndCompare(const RandomFrame& f, const DecalScene& decals);
 
+// The kernel against the reference on a frame under a pixel filter (taps or `:fast`): no pixel
+// mismatched; ambiguous pixels within the point-sampled share dilated by the 3 px footprint (a
+// decision within rounding anywhere in it: a face flush with a surface, a ramp steeper than
+// rounding; measured up to 22 %, seed 3), and at most half; decals change at least 5 % of the
+// pixels. Returns the comparison.
+Comparison expectFilteredKernelMatchesReference(const RandomFrame& f, const DecalScene& decals);
+
 // Composites binned and unbinned and counts the albedo samples whose bits differ.
 std::size_t binnedUnbinnedDifferences(const RandomFrame& f, const DecalScene& decals);
 
