@@ -39,11 +39,11 @@ inline uint dc_mixed_surfaces(__constant const DcFrame* f, __global const float*
  * decal's change has one sign over the footprint, the filtered truth sum(w L delta) lies between
  * the least and the most light times the filtered change, so the least never overshoots it and
  * the pixel cannot end up further from the truth than the untouched beauty. */
-inline float3 dc_least_light(float3 own, __global const float4* term, size_t i, int width, uint surfaces) {
+inline float3 dc_least_light(float3 own, __global const float* term, size_t i, int width, uint surfaces) {
     float3 least = own;
     for (int k = 0; k < 9; ++k)
         if (k != 4 && (surfaces & (1u << k)))
-            least = fmin(least, term[(long)i + (long)(k / 3 - 1) * width + (k % 3 - 1)].xyz);
+            least = fmin(least, vload3((long)i + (long)(k / 3 - 1) * width + (k % 3 - 1), term));
     return least;
 }
 
@@ -66,26 +66,27 @@ inline float3 dc_colour_ratio(float3 before, float3 after) {
 
 /* `mixed_surfaces` (dc_mixed_surfaces, or 0): at a mixed pixel divided light takes the least light
  * around it (dc_least_light). Only divided light without relighting reads its neighbours: those
- * terms are never written, so no other work-item changes them meanwhile. */
+ * terms are never written, so no other work-item changes them meanwhile. The beauty and each term
+ * are packed RGB (beauty_transfer.hpp): the beauty's alpha never changes and stays on the host. */
 inline void dc_update_beauty(__constant const DcFrame* f, size_t i, size_t pixels, float3 albedo_before,
                              float3 albedo_after, float3 emission_delta, float relight, uint mixed_surfaces,
-                             __global float4* beauty, __global float4* light) {
+                             __global float* beauty, __global float* light) {
     /* The loads first, so that their latencies overlap (the compiler cannot move them past the
-     * stores below), and whole-float4 stores: on an H200 the update cost 0.13 ms at 1080p with 1024
+     * stores below), and whole-pixel stores: on an H200 the update cost 0.13 ms at 1080p with 1024
      * decals written in place term by term, 0.09 ms so (docs/benchmarks.md "Beauty update"). */
-    const float4 b = beauty[i];
+    const float3 b = vload3(i, beauty);
     const int terms = f->light_terms;
-    const float4 l0 = terms > 0 ? light[i] : (float4)(0.0f);
-    const float4 l1 = terms > 1 ? light[pixels + i] : (float4)(0.0f);
+    const float3 l0 = terms > 0 ? vload3(i, light) : (float3)(0.0f);
+    const float3 l1 = terms > 1 ? vload3(pixels + i, light) : (float3)(0.0f);
     float3 add = f->beauty_emission ? emission_delta : (float3)(0.0f);
     if (!all(albedo_after == albedo_before) || relight != 1.0f) {
         const float3 delta = albedo_after - albedo_before, ratio = dc_colour_ratio(albedo_before, albedo_after);
         for (int t = 0; t < terms; ++t) {
-            __global float4* term = light + (size_t)t * pixels + i;
-            const float4 l4 = t == 0 ? l0 : t == 1 ? l1 : *term;
+            const size_t term = (size_t)t * pixels + i;
+            const float3 own = t == 0 ? l0 : t == 1 ? l1 : vload3(term, light);
             const float3 l = mixed_surfaces != 0
-                                 ? dc_least_light(l4.xyz, light + (size_t)t * pixels, i, f->width, mixed_surfaces)
-                                 : l4.xyz;
+                                 ? dc_least_light(own, light + (size_t)t * pixels * 3, i, f->width, mixed_surfaces)
+                                 : own;
             const float scale = t < f->direct_terms ? relight : 1.0f;
             float3 change, rewritten = l;
             if (f->light_divided) {
@@ -97,10 +98,10 @@ inline void dc_update_beauty(__constant const DcFrame* f, size_t i, size_t pixel
                 change = rewritten - l;
             }
             if (t < f->summed_terms) add += change;
-            if (f->light_divided ? scale != 1.0f : 1) *term = (float4)(rewritten, l4.w);
+            if (f->light_divided ? scale != 1.0f : 1) vstore3(rewritten, term, light);
         }
     }
-    if (add.x != 0.0f || add.y != 0.0f || add.z != 0.0f) beauty[i] = (float4)(b.xyz + add, b.w);
+    if (add.x != 0.0f || add.y != 0.0f || add.z != 0.0f) vstore3(b + add, i, beauty);
 }
 
 #endif

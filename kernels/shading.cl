@@ -290,8 +290,8 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                            __global const int* tile_decals, __global const DcDecalBounds* decal_bounds, int binned,
                            int list_capacity,
                            __global const float* mask_weights,
-                           __global const uint* occlusion_maps, __global float4* beauty,
-                           __global float4* light, __global const float4* rest_points,
+                           __global const uint* occlusion_maps, __global float* beauty,
+                           __global float* light, __global const float4* rest_points,
                            __global const float4* rest_frames, const int variant) {
     const bool point_only = (variant & DC_VARIANT_POINT) != 0;
     const int x = get_global_id(0), y = get_global_id(1);
@@ -423,8 +423,8 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
         __global const DcDecal *decals, __global const DcTexture *textures, __global const float4 *texels,       \
         __global const int *tile_offsets, __global const int *tile_decals,                                      \
         __global const DcDecalBounds *decal_bounds, int binned, int list_capacity,                              \
-        __global const float *mask_weights, __global const uint *occlusion_maps, __global float4 *beauty,       \
-        __global float4 *light, __global const float4 *rest_points, __global const float4 *rest_frames
+        __global const float *mask_weights, __global const uint *occlusion_maps, __global float *beauty,        \
+        __global float *light, __global const float4 *rest_points, __global const float4 *rest_frames
 #define DC_SHADE_CALL(VARIANT)                                                                              \
     dc_shade_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2, original0, original1,       \
                    decals, textures, texels,                                                                  \

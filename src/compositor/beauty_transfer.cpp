@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "compositor/surface_planes.hpp"
 #include "decalcomp/error.hpp"
 
 namespace decalcomp {
@@ -11,38 +12,15 @@ namespace {
 // As the surface groups: packing is memory traffic, spread over the cores for large frames.
 constexpr std::ptrdiff_t kParallelPixels = 1 << 16;
 
-void packRgb(const Plane& plane, float* out) {
-    const auto pixels = std::ptrdiff_t(plane.samples.size() / 3);
-    const float* in = plane.samples.data();
-#pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
-    for (std::ptrdiff_t i = 0; i < pixels; ++i) {
-        float* o = out + i * 4;
-        o[0] = in[i * 3], o[1] = in[i * 3 + 1], o[2] = in[i * 3 + 2], o[3] = 0.0f;
-    }
-}
-
-void unpackRgb(Plane& plane, const float* result) {
-    const auto pixels = std::ptrdiff_t(plane.samples.size() / 3);
-    float* out = plane.samples.data();
-#pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
-    for (std::ptrdiff_t i = 0; i < pixels; ++i)
-        for (int c = 0; c < 3; ++c) out[i * 3 + c] = result[i * 4 + c];
-}
-
-// The sum of the summed terms into float4s.
+// The sum of the summed terms, packed RGB.
 void packSummedTerms(const BeautyPlanes& planes, float* out) {
-    const auto pixels = std::ptrdiff_t(planes.beauty.samples.size() / 3);
+    const auto floats = std::ptrdiff_t(planes.beauty.samples.size());
     const int terms = planes.summed_terms;
-#pragma omp parallel for schedule(static) if (pixels >= kParallelPixels)
-    for (std::ptrdiff_t i = 0; i < pixels; ++i) {
-        float* o = out + i * 4;
-        for (int c = 0; c < 3; ++c) {
-            const std::size_t sample = std::size_t(i) * 3 + std::size_t(c);
-            float sum = 0.0f;
-            for (int t = 0; t < terms; ++t) sum += planes.light[std::size_t(t)].samples[sample];
-            o[c] = sum;
-        }
-        o[3] = 0.0f;
+#pragma omp parallel for schedule(static) if (floats >= 3 * kParallelPixels)
+    for (std::ptrdiff_t i = 0; i < floats; ++i) {
+        float sum = 0.0f;
+        for (int t = 0; t < terms; ++t) sum += planes.light[std::size_t(t)].samples[std::size_t(i)];
+        out[i] = sum;
     }
 }
 
@@ -82,20 +60,20 @@ void checkBeautyPlanes(const BeautyPlanes& planes, std::size_t pixels) {
 }
 
 void packBeautyPlanes(const BeautyPlanes& planes, bool fold, float* beauty, float* light) {
-    packRgb(planes.beauty, beauty);
+    const std::size_t floats = planes.beauty.samples.size();
+    parallelCopy(beauty, planes.beauty.samples.data(), {0, floats});
     if (fold) {
         if (planes.summed_terms > 0) packSummedTerms(planes, light);
         return;
     }
-    const std::size_t pixels = planes.beauty.samples.size() / 3;
-    for (std::size_t t = 0; t < planes.light.size(); ++t) packRgb(planes.light[t], light + t * pixels * 4);
+    for (std::size_t t = 0; t < planes.light.size(); ++t) parallelCopy(light + t * floats, planes.light[t].samples.data(), {0, floats});
 }
 
 void unpackBeautyPlanes(BeautyPlanes& planes, const float* beauty, const float* light) {
-    unpackRgb(planes.beauty, beauty);
+    const std::size_t floats = planes.beauty.samples.size();
+    parallelCopy(planes.beauty.samples.data(), beauty, {0, floats});
     if (!planes.lightRewritten()) return;
-    const std::size_t pixels = planes.beauty.samples.size() / 3;
-    for (std::size_t t = 0; t < planes.light.size(); ++t) unpackRgb(planes.light[t], light + t * pixels * 4);
+    for (std::size_t t = 0; t < planes.light.size(); ++t) parallelCopy(planes.light[t].samples.data(), light + t * floats, {0, floats});
 }
 
 }  // namespace decalcomp

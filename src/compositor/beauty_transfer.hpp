@@ -1,12 +1,16 @@
 #pragma once
 // The beauty and the albedo lobe's light planes as the shading kernel reads and writes them:
-// one float4 per pixel (RGB, unused w) for the beauty and for each light term, terms back to back.
+// packed RGB, three floats per pixel as the planes hold them, terms back to back. No unused fourth
+// float: the update is memory traffic, and the beauty's own planes upload without a repack.
 #include <cstddef>
 
 #include "decalcomp/beauty.hpp"
 #include "shared_types.h"
 
 namespace decalcomp {
+
+// Bytes per pixel of the beauty and of each light term on the device.
+inline constexpr std::size_t kBeautyPixelBytes = 3 * sizeof(float);
 
 // Whether the device gets the summed terms as one: divided light that is not relit is never
 // rewritten, and its summed terms only ever add up, so one term of their sum carries the whole
@@ -22,7 +26,7 @@ void setBeautyParams(cl_types::DcFrame& params, const BeautyPlanes* planes, bool
 // Throws Error(Input) when a plane does not cover `pixels` with 3 components.
 void checkBeautyPlanes(const BeautyPlanes& planes, std::size_t pixels);
 
-// Fills `beauty` (pixels float4) and `light` (device terms x pixels float4) from the planes.
+// Fills `beauty` (pixels x RGB) and `light` (device terms x pixels x RGB) from the planes.
 void packBeautyPlanes(const BeautyPlanes& planes, bool fold, float* beauty, float* light);
 // Writes the kernel's results back: the beauty, and the light terms when the kernel rewrote them.
 void unpackBeautyPlanes(BeautyPlanes& planes, const float* beauty, const float* light);

@@ -291,8 +291,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                     (filtered && surface.used[std::size_t(g)] ? pixels : 1) * sizeof(cl_float4));
         s.masks.reserve(context, queue, std::max<std::size_t>(s.mask_count * pixels, 1) * sizeof(float), s.unified);
         const std::size_t light_terms = beauty ? deviceLightTerms(*beauty, fold_light) : 0;
-        s.beauty.reserve(context, queue, (beauty ? pixels : 1) * sizeof(cl_float4), s.unified);
-        s.light.reserve(context, queue, std::max<std::size_t>(light_terms * pixels, 1) * sizeof(cl_float4), s.unified);
+        s.beauty.reserve(context, queue, (beauty ? pixels : 1) * kBeautyPixelBytes, s.unified);
+        s.light.reserve(context, queue, std::max<std::size_t>(light_terms * pixels, 1) * kBeautyPixelBytes, s.unified);
         reserve(context, s.decal_buffer, decals * sizeof(cl_types::DcDecal));
         reserve(context, s.bounds, decals * sizeof(cl_types::DcDecalBounds));
         reserve(context, s.tile_depth, tiles * sizeof(cl_float2));
@@ -355,8 +355,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 auto* beauty_view = static_cast<float*>(s.beauty.beginUpload(queue));
                 auto* light_view = static_cast<float*>(s.light.beginUpload(queue));
                 packBeautyPlanes(*beauty, fold_light, beauty_view, light_view);
-                s.beauty.uploadRange(queue, 0, pixels * sizeof(cl_float4));
-                if (light_terms > 0) s.light.uploadRange(queue, 0, light_terms * pixels * sizeof(cl_float4));
+                s.beauty.uploadRange(queue, 0, pixels * kBeautyPixelBytes);
+                if (light_terms > 0) s.light.uploadRange(queue, 0, light_terms * pixels * kBeautyPixelBytes);
                 s.beauty.finishUpload(queue);
                 s.light.finishUpload(queue);
             }
@@ -467,9 +467,9 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             }
             const bool light_back = beauty && beauty->lightRewritten() && light_terms > 0;
             cl::Event beauty_downloaded, light_downloaded;
-            if (beauty) s.beauty.enqueueDownload(queue, 0, pixels * sizeof(cl_float4), &beauty_downloaded);
+            if (beauty) s.beauty.enqueueDownload(queue, 0, pixels * kBeautyPixelBytes, &beauty_downloaded);
             if (light_back)
-                s.light.enqueueDownload(queue, 0, light_terms * pixels * sizeof(cl_float4), &light_downloaded);
+                s.light.enqueueDownload(queue, 0, light_terms * pixels * kBeautyPixelBytes, &light_downloaded);
             queue.flush();
             if (binned) totals_read.wait();  // the binning's totals are back long before the planes
             if (binned && (std::size_t(s.totals[0]) > s.coarse_capacity || std::size_t(s.totals[1]) > s.list_capacity)) {
@@ -495,10 +495,10 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             if (beauty) {
                 queue.finish();
                 const auto* beauty_result =
-                    static_cast<const float*>(s.beauty.beginDownload(queue, pixels * sizeof(cl_float4)));
+                    static_cast<const float*>(s.beauty.beginDownload(queue, pixels * kBeautyPixelBytes));
                 const auto* light_result =
                     light_back ? static_cast<const float*>(
-                                     s.light.beginDownload(queue, light_terms * pixels * sizeof(cl_float4)))
+                                     s.light.beginDownload(queue, light_terms * pixels * kBeautyPixelBytes))
                                : nullptr;
                 unpackBeautyPlanes(*beauty, beauty_result, light_result);
                 s.beauty.endDownload(queue);

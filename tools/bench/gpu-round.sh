@@ -23,7 +23,7 @@ mkdir -p "$OUT"
 step() {
     name=$1
     shift
-    echo "== $name: $(date -u +%H:%M:%S) ${KDIR:+DECALCOMP_KERNEL_DIR=$KDIR }decalcomp-bench $*" >>"$OUT/run.log"
+    echo "== $name: $(date -u +%H:%M:%S) ${KDIR:+DECALCOMP_KERNEL_DIR=$KDIR }$B $*" >>"$OUT/run.log"
     env ${KDIR:+DECALCOMP_KERNEL_DIR=$KDIR} $E $B --device nvidia "$@" --csv /tmp/step.csv >>"$OUT/run.log" 2>&1
     [ -f /tmp/step.csv ] && sed "s/^/$name,/" /tmp/step.csv >>"$OUT/results.csv"
     rm -f /tmp/step.csv
@@ -34,21 +34,38 @@ save_cache() {
     [ -d "$CUDA_CACHE_PATH" ] && tar czf "$OUT/nvc.tgz" -C "$(dirname "$CUDA_CACHE_PATH")" "$(basename "$CUDA_CACHE_PATH")"
 }
 
+# SECTIONS picks what runs (default all): issue9 beauty filter, in that order; a call that may
+# run out of time can take some and leave the rest to the next.
+SECTIONS=${SECTIONS:-issue9 beauty filter}
+wants() { case " $SECTIONS " in *" $1 "*) return 0 ;; esac; return 1; }
+
 # warm-up: builds and caches the point-sampled program
 step warmup --quick
 save_cache
 
 # Issue 9: composite() against its transfer floors, the kernels against the copy rate, 4096 against 1
+if wants issue9; then
 step issue9 --repeat 10 --sizes 1920x1080,3840x2160 --counts 1,1024,4096 --modes binned
 for edge in 3 6; do
     step same-coverage-$edge --repeat 20 --sizes 1920x1080,3840x2160 --counts 1,4096 --modes binned --no-transfers \
         --same-coverage $edge
 done
+fi
 
-# Issue 14: the beauty update's cost, alternated twice; with KBEFORE=dir also the kernels there
-for round in 1 2; do
+# Issue 14: the beauty update's cost, alternated twice; with KBEFORE=dir also the kernels there,
+# with BBEFORE=binary also that bench (a change of the host's layout, which old kernels cannot read)
+wants beauty && for round in 1 2; do
     step beauty-without-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers
     step beauty-with-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers --beauty
+    if [ -n "${BBEFORE:-}" ]; then
+        B_AFTER=$B
+        B=$BBEFORE
+        step beauty-binary-before-without-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned \
+            --no-transfers
+        step beauty-binary-before-with-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned \
+            --no-transfers --beauty
+        B=$B_AFTER
+    fi
     if [ -n "${KBEFORE:-}" ]; then
         KDIR=$KBEFORE step beauty-before-without-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 \
             --modes binned --no-transfers
@@ -59,7 +76,7 @@ done
 
 # Issue 15: Blender's default filter, by taps and in closed form (:fast), against point samples,
 # alternated twice (the first filtered run builds the full program)
-for round in 1 2; do
+wants filter && for round in 1 2; do
     for filter in none blackman-harris:3 blackman-harris:3:fast; do
         name=${filter%%:*}
         case $filter in *:fast) name=$name-fast ;; esac
