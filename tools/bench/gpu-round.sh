@@ -34,27 +34,28 @@ save_cache() {
     [ -d "$CUDA_CACHE_PATH" ] && tar czf "$OUT/nvc.tgz" -C "$(dirname "$CUDA_CACHE_PATH")" "$(basename "$CUDA_CACHE_PATH")"
 }
 
-# SECTIONS picks what runs (default all): issue9 beauty filter, in that order; a call that may
+# SECTIONS picks what runs and in which order (default: issue9 beauty filter); a call that may
 # run out of time can take some and leave the rest to the next.
 SECTIONS=${SECTIONS:-issue9 beauty filter}
-wants() { case " $SECTIONS " in *" $1 "*) return 0 ;; esac; return 1; }
 
 # warm-up: builds and caches the point-sampled program
 step warmup --quick
 save_cache
 
 # Issue 9: composite() against its transfer floors, the kernels against the copy rate, 4096 against 1
-if wants issue9; then
+section_issue9() {
 step issue9 --repeat 10 --sizes 1920x1080,3840x2160 --counts 1,1024,4096 --modes binned
 for edge in 3 6; do
     step same-coverage-$edge --repeat 20 --sizes 1920x1080,3840x2160 --counts 1,4096 --modes binned --no-transfers \
         --same-coverage $edge
 done
-fi
+}
 
-# Issue 14: the beauty update's cost, alternated twice; with KBEFORE=dir also the kernels there,
+# Issue 14: the beauty update's cost, alternated twice; with KBEFORE=dir also the kernels there
+# (steps beauty-kernels-*),
 # with BBEFORE=binary also that bench (a change of the host's layout, which old kernels cannot read)
-wants beauty && for round in 1 2; do
+section_beauty() {
+for round in 1 2; do
     step beauty-without-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers
     step beauty-with-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers --beauty
     if [ -n "${BBEFORE:-}" ]; then
@@ -67,16 +68,20 @@ wants beauty && for round in 1 2; do
         B=$B_AFTER
     fi
     if [ -n "${KBEFORE:-}" ]; then
-        KDIR=$KBEFORE step beauty-before-without-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 \
-            --modes binned --no-transfers
-        KDIR=$KBEFORE step beauty-before-with-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 \
-            --modes binned --no-transfers --beauty
+        KDIR=$KBEFORE
+        step beauty-kernels-without-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned \
+            --no-transfers
+        step beauty-kernels-with-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned \
+            --no-transfers --beauty
+        KDIR=
     fi
 done
+}
 
 # Issue 15: Blender's default filter, by taps and in closed form (:fast), against point samples,
 # alternated twice (the first filtered run builds the full program)
-wants filter && for round in 1 2; do
+section_filter() {
+for round in 1 2; do
     for filter in none blackman-harris:3 blackman-harris:3:fast; do
         name=${filter%%:*}
         case $filter in *:fast) name=$name-fast ;; esac
@@ -85,5 +90,8 @@ wants filter && for round in 1 2; do
         [ "$round" = 1 ] && save_cache
     done
 done
+}
+
+for section in $SECTIONS; do section_$section; done
 date -u >>"$OUT/machine.txt"
 save_cache
