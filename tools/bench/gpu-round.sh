@@ -3,6 +3,10 @@
 # On the development machine, in the project root:
 #   sh ../shared/gpu/prepare.sh && cp build/decalcomp-bench .gpu/ && cp tools/bench/gpu-round.sh .gpu/
 # then the device tool with carry [".gpu"] and: sh .gpu/gpu-round.sh
+# The tree that travels holds at most 64 MiB and data/ alone is about 60: the bench needs none of
+# it, so take data/ out of the index for the call and put it back after (the files stay on disk):
+#   git rm -r -q --cached data && echo /data/ >>.git/info/exclude      # before
+#   git reset -q && sed -i '\|^/data/$|d' .git/info/exclude            # after
 # The first run builds the kernels: minutes on NVIDIA (the point-sampled program first; the filter's
 # full program only in the last step). Results land in $OUT (the device tool's output folder) as
 # three files, since the tool brings back only a few: machine.txt, run.log (every step's report)
