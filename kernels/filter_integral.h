@@ -42,6 +42,10 @@ inline float dc_edge_share(const DcEdgeSpread* e, float delta) {
 
 /* The filter's share where lo <= a <= hi, a = a0 + g . (u, v). */
 inline float dc_slab_share(__constant const DcFrame* f, float a0, float2 g, float lo, float hi) {
+    /* the footprint wholly inside or outside: no table (the edge-spread reaches filter_radius (|gu| + |gv|)) */
+    const float reach = f->filter_radius * (fabs(g.x) + fabs(g.y));
+    if (a0 - reach >= lo && a0 + reach <= hi) return 1.0f;
+    if (a0 + reach <= lo || a0 - reach >= hi) return 0.0f;
     const DcEdgeSpread e = dc_edge_spread_along(f, g);
     return fmax(0.0f, dc_edge_share(&e, hi - a0) - dc_edge_share(&e, lo - a0));
 }
