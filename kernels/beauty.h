@@ -34,16 +34,16 @@ inline uint dc_mixed_surfaces(__constant const DcFrame* f, __global const float*
     return mixed ? surfaces : 0u;
 }
 
-/* Light term t at a mixed pixel (`own`: the pixel's, already loaded): per channel, the least of
- * its own and its surface neighbours'. Where a
+/* A light term at a mixed pixel (`term`: the pixel's index in the packed terms, `own` its value,
+ * already loaded): per channel, the least of its own and its surface neighbours'. Where a
  * decal's change has one sign over the footprint, the filtered truth sum(w L delta) lies between
  * the least and the most light times the filtered change, so the least never overshoots it and
  * the pixel cannot end up further from the truth than the untouched beauty. */
-inline float3 dc_least_light(float3 own, __global const float* term, size_t i, int width, uint surfaces) {
+inline float3 dc_least_light(float3 own, __global const float* light, size_t term, int width, uint surfaces) {
     float3 least = own;
     for (int k = 0; k < 9; ++k)
         if (k != 4 && (surfaces & (1u << k)))
-            least = fmin(least, vload3((long)i + (long)(k / 3 - 1) * width + (k % 3 - 1), term));
+            least = fmin(least, vload3((long)term + (long)(k / 3 - 1) * width + (k % 3 - 1), light));
     return least;
 }
 
@@ -85,7 +85,7 @@ inline void dc_update_beauty(__constant const DcFrame* f, size_t i, size_t pixel
             const size_t term = (size_t)t * pixels + i;
             const float3 own = t == 0 ? l0 : t == 1 ? l1 : vload3(term, light);
             const float3 l = mixed_surfaces != 0
-                                 ? dc_least_light(own, light + (size_t)t * pixels * 3, i, f->width, mixed_surfaces)
+                                 ? dc_least_light(own, light, term, f->width, mixed_surfaces)
                                  : own;
             const float scale = t < f->direct_terms ? relight : 1.0f;
             float3 change, rewritten = l;

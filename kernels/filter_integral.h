@@ -17,10 +17,16 @@ typedef struct {
     __constant const float* row;
 } DcEdgeSpread;
 
+/* How far from a0 the edge-spread of a quantity a = a0 + g . (u, v) reaches: filter_radius (|g.u| +
+ * |g.v|), in a's units. */
+inline float dc_edge_reach(__constant const DcFrame* f, float2 g) {
+    return f->filter_radius * (fabs(g.x) + fabs(g.y));
+}
+
 inline DcEdgeSpread dc_edge_spread_along(__constant const DcFrame* f, float2 g) {
     const float a = fmax(fabs(g.x), fabs(g.y)), b = fmin(fabs(g.x), fabs(g.y));
     DcEdgeSpread e;
-    e.scale = 1.0f / (f->filter_radius * (a + b)); /* infinite for a flat quantity: the hard test */
+    e.scale = 1.0f / dc_edge_reach(f, g); /* infinite for a flat quantity: the hard test */
     const float rk = a > 0.0f ? b / a * (float)(DC_EDGE_SPREAD_RATIOS - 1) : 0.0f;
     const int k = min((int)rk, DC_EDGE_SPREAD_RATIOS - 2);
     e.fk = rk - (float)k;
@@ -42,8 +48,8 @@ inline float dc_edge_share(const DcEdgeSpread* e, float delta) {
 
 /* The filter's share where lo <= a <= hi, a = a0 + g . (u, v). */
 inline float dc_slab_share(__constant const DcFrame* f, float a0, float2 g, float lo, float hi) {
-    /* the footprint wholly inside or outside: no table (the edge-spread reaches filter_radius (|gu| + |gv|)) */
-    const float reach = f->filter_radius * (fabs(g.x) + fabs(g.y));
+    /* the footprint wholly inside or outside: no table */
+    const float reach = dc_edge_reach(f, g);
     if (a0 - reach >= lo && a0 + reach <= hi) return 1.0f;
     if (a0 + reach <= lo || a0 - reach >= hi) return 0.0f;
     const DcEdgeSpread e = dc_edge_spread_along(f, g);
@@ -57,7 +63,7 @@ inline float dc_slab_share(__constant const DcFrame* f, float a0, float2 g, floa
  * crosses, from *first; returns how many (0 where the footprint misses the texture). */
 inline int dc_texel_shares(__constant const DcFrame* f, float c0, float2 g, int size, int* first,
                            float shares[DC_INTEGRATED_TEXELS]) {
-    const float reach = f->filter_radius * (fabs(g.x) + fabs(g.y));
+    const float reach = dc_edge_reach(f, g);
     const int i0 = (int)dc_floor_clamped(clamp(c0 - reach, 0.0f, (float)size - 1.0f));
     const int i1 = min((int)dc_floor_clamped(clamp(c0 + reach, 0.0f, (float)size - 1.0f)), i0 + DC_INTEGRATED_TEXELS - 1);
     *first = i0;

@@ -49,8 +49,8 @@ void setBeautyParams(cl_types::DcFrame& params, const BeautyPlanes* planes, bool
 void checkBeautyPlanes(const BeautyPlanes& planes, std::size_t pixels) {
     auto check = [&](const Plane& plane, const std::string& what) {
         if (plane.components != 3 || plane.samples.size() != pixels * 3)
-            throw inputError(fmt::format("beauty update: the {} plane does not match the frame ({} pixels, RGB)",
-                                         what, pixels));
+            throw inputError(
+                fmt::format("beauty update: the {} plane does not match the frame ({} pixels, RGB)", what, pixels));
     };
     check(planes.beauty, "beauty");
     for (std::size_t t = 0; t < planes.light.size(); ++t) check(planes.light[t], fmt::format("light term {}", t));
@@ -66,14 +66,16 @@ void packBeautyPlanes(const BeautyPlanes& planes, bool fold, float* beauty, floa
         if (planes.summed_terms > 0) packSummedTerms(planes, light);
         return;
     }
-    for (std::size_t t = 0; t < planes.light.size(); ++t) parallelCopy(light + t * floats, planes.light[t].samples.data(), {0, floats});
+    for (std::size_t t = 0; t < planes.light.size(); ++t)
+        parallelCopy(light + t * floats, planes.light[t].samples.data(), {0, floats});
 }
 
 void unpackBeautyPlanes(BeautyPlanes& planes, const float* beauty, const float* light) {
     const std::size_t floats = planes.beauty.samples.size();
     parallelCopy(planes.beauty.samples.data(), beauty, {0, floats});
     if (!planes.lightRewritten()) return;
-    for (std::size_t t = 0; t < planes.light.size(); ++t) parallelCopy(planes.light[t].samples.data(), light + t * floats, {0, floats});
+    for (std::size_t t = 0; t < planes.light.size(); ++t)
+        parallelCopy(planes.light[t].samples.data(), light + t * floats, {0, floats});
 }
 
 }  // namespace decalcomp

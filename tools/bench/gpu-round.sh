@@ -56,27 +56,26 @@ done
 }
 
 # Issue 14: the beauty update's cost, alternated twice; with KBEFORE=dir also the kernels there
-# (steps beauty-kernels-*),
-# with BBEFORE=binary also that bench (a change of the host's layout, which old kernels cannot read)
+# (steps beauty-kernels-*), with BBEFORE=binary also that bench (steps beauty-binary-before-*: a
+# change of the host's layout, which old kernels cannot read)
+# beauty_steps NAME: the round's pair, without and with the beauty, named NAME-without-$round and
+# NAME-with-$round
+beauty_steps() {
+    step "$1-without-$round" --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers
+    step "$1-with-$round" --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers --beauty
+}
 section_beauty() {
 for round in 1 2; do
-    step beauty-without-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers
-    step beauty-with-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned --no-transfers --beauty
+    beauty_steps beauty
     if [ -n "${BBEFORE:-}" ]; then
         B_AFTER=$B
         B=$BBEFORE
-        step beauty-binary-before-without-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned \
-            --no-transfers
-        step beauty-binary-before-with-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned \
-            --no-transfers --beauty
+        beauty_steps beauty-binary-before
         B=$B_AFTER
     fi
     if [ -n "${KBEFORE:-}" ]; then
         KDIR=$KBEFORE
-        step beauty-kernels-without-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned \
-            --no-transfers
-        step beauty-kernels-with-$round --repeat 20 --sizes 1920x1080 --counts 1,1024,4096 --modes binned \
-            --no-transfers --beauty
+        beauty_steps beauty-kernels
         KDIR=
     fi
 done
