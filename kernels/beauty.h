@@ -64,44 +64,41 @@ inline float3 dc_colour_ratio(float3 before, float3 after) {
                     before.z > 0.0f ? after.z / before.z : 1.0f);
 }
 
-/* `mixed_surfaces` (dc_mixed_surfaces, or 0): at a mixed pixel divided light takes the least light
- * around it (dc_least_light). Only divided light without relighting reads its neighbours: those
- * terms are never written, so no other work-item changes them meanwhile. The beauty and each term
- * are packed RGB (beauty_transfer.hpp): the beauty's alpha never changes and stays on the host. */
-inline void dc_update_beauty(__constant const DcFrame* f, size_t i, size_t pixels, float3 albedo_before,
-                             float3 albedo_after, float3 emission_delta, float relight, uint mixed_surfaces,
-                             __global float* beauty, __global float* light) {
-    /* The loads first, so that their latencies overlap (the compiler cannot move them past the
-     * stores below), and whole-pixel stores: on an H200 the update cost 0.13 ms at 1080p with 1024
-     * decals written in place term by term, 0.09 ms so (docs/benchmarks.md "Beauty update"). */
-    const float3 b = vload3(i, beauty);
+/* The beauty's change at a changed pixel; the host adds it to the beauty (beauty_transfer.hpp), so
+ * the kernel never reads the beauty: at a changed pixel its traffic is the terms' reads alone, not
+ * the beauty read and written besides. `mixed_surfaces` (dc_mixed_surfaces, or 0): at a mixed pixel
+ * divided light takes the least light around it (dc_least_light). Only divided light without
+ * relighting reads its neighbours: those terms are never written, so no other work-item changes them
+ * meanwhile. Each term is packed RGB. */
+inline float3 dc_beauty_change(__constant const DcFrame* f, size_t i, size_t pixels, float3 albedo_before,
+                               float3 albedo_after, float3 emission_delta, float relight, uint mixed_surfaces,
+                               __global float* light) {
+    float3 add = f->beauty_emission ? emission_delta : (float3)(0.0f);
+    if (all(albedo_after == albedo_before) && relight == 1.0f) return add;
+    /* the first two terms' loads before any store, so that their latencies overlap (the compiler
+     * cannot move a load past a store to the same buffer) */
     const int terms = f->light_terms;
     const float3 l0 = terms > 0 ? vload3(i, light) : (float3)(0.0f);
     const float3 l1 = terms > 1 ? vload3(pixels + i, light) : (float3)(0.0f);
-    float3 add = f->beauty_emission ? emission_delta : (float3)(0.0f);
-    if (!all(albedo_after == albedo_before) || relight != 1.0f) {
-        const float3 delta = albedo_after - albedo_before, ratio = dc_colour_ratio(albedo_before, albedo_after);
-        for (int t = 0; t < terms; ++t) {
-            const size_t term = (size_t)t * pixels + i;
-            const float3 own = t == 0 ? l0 : t == 1 ? l1 : vload3(term, light);
-            const float3 l = mixed_surfaces != 0
-                                 ? dc_least_light(own, light, term, f->width, mixed_surfaces)
-                                 : own;
-            const float scale = t < f->direct_terms ? relight : 1.0f;
-            float3 change, rewritten = l;
-            if (f->light_divided) {
-                /* one product for the plain case, so the update is exact to one rounding */
-                change = scale == 1.0f ? l * delta : l * scale * albedo_after - l * albedo_before;
-                if (scale != 1.0f) rewritten = l * scale;
-            } else {
-                rewritten = l * (ratio * scale);
-                change = rewritten - l;
-            }
-            if (t < f->summed_terms) add += change;
-            if (f->light_divided ? scale != 1.0f : 1) vstore3(rewritten, term, light);
+    const float3 delta = albedo_after - albedo_before, ratio = dc_colour_ratio(albedo_before, albedo_after);
+    for (int t = 0; t < terms; ++t) {
+        const size_t term = (size_t)t * pixels + i;
+        const float3 own = t == 0 ? l0 : t == 1 ? l1 : vload3(term, light);
+        const float3 l = mixed_surfaces != 0 ? dc_least_light(own, light, term, f->width, mixed_surfaces) : own;
+        const float scale = t < f->direct_terms ? relight : 1.0f;
+        float3 change, rewritten = l;
+        if (f->light_divided) {
+            /* one product for the plain case, so the update is exact to one rounding */
+            change = scale == 1.0f ? l * delta : l * scale * albedo_after - l * albedo_before;
+            if (scale != 1.0f) rewritten = l * scale;
+        } else {
+            rewritten = l * (ratio * scale);
+            change = rewritten - l;
         }
+        if (t < f->summed_terms) add += change;
+        if (f->light_divided ? scale != 1.0f : 1) vstore3(rewritten, term, light);
     }
-    if (add.x != 0.0f || add.y != 0.0f || add.z != 0.0f) vstore3(b + add, i, beauty);
+    return add;
 }
 
 #endif

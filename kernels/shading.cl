@@ -279,37 +279,24 @@ DC_INLINE DcSurface dc_point_decal(__constant const DcFrame* frame, __global con
                           variant);
 }
 
-/* One pixel. `variant` (DC_VARIANT_x) is a literal in each kernel below, so the lean kernels carry
- * none of the code they exclude (fewer registers, faster loops: docs/benchmarks.md). */
-inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float* depth_plane,
-                           __global const float4* position_plane, __global float4* surface0,
-                           __global float4* surface1, __global float4* surface2,
-                           __global const float4* original0, __global const float4* original1,
-                           __global const DcDecal* decals, __global const DcTexture* textures,
-                           __global const float4* texels, __global const int* tile_offsets,
-                           __global const int* tile_decals, __global const DcDecalBounds* decal_bounds, int binned,
-                           int list_capacity,
-                           __global const float* mask_weights,
-                           __global const uint* occlusion_maps, __global float* beauty,
-                           __global float* light, __global const float4* rest_points,
-                           __global const float4* rest_frames, const int variant) {
+/* A pixel of a tile some decal is listed on, the list narrowed to [begin, end): composites the
+ * list into the surface planes and returns the beauty's change (dc_beauty_change; 0 where nothing
+ * changed or without a beauty). */
+inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global const float* depth_plane,
+                                    __global const float4* position_plane, __global float4* surface0,
+                                    __global float4* surface1, __global float4* surface2,
+                                    __global const float4* original0, __global const float4* original1,
+                                    __global const DcDecal* decals, __global const DcTexture* textures,
+                                    __global const float4* texels, __global const int* tile_decals,
+                                    __global const DcDecalBounds* decal_bounds, int binned, int begin, int end,
+                                    __global const float* mask_weights, __global const uint* occlusion_maps,
+                                    __global float* light, __global const float4* rest_points,
+                                    __global const float4* rest_frames, const int variant, int x, int y) {
     const bool point_only = (variant & DC_VARIANT_POINT) != 0;
-    const int x = get_global_id(0), y = get_global_id(1);
-    if (x >= frame->width || y >= frame->height) return;
     const size_t i = (size_t)y * frame->width + x;
     const int attributes = frame->attributes;
     const bool has_group1 = (attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
     const bool has_group2 = (attributes & ((1 << DC_TARGET_EMISSION) | (1 << DC_TARGET_AO))) != 0;
-    /* The planes are changed in place: pixels no decal reaches (background among them) are
-     * neither read nor written, so they keep their samples bit for bit. */
-    int begin = 0, end = frame->decal_count;
-    if (binned) {
-        const int tile = (y / DC_TILE_SIZE) * frame->tiles_x + x / DC_TILE_SIZE;
-        begin = tile_offsets[tile];
-        end = min(tile_offsets[tile + 1], list_capacity); /* an overflowed list: the frame runs again */
-    }
-    /* the tile's list before the pixel's point: tiles no decal reaches read nothing but it */
-    if (begin >= end) return;
     /* Binning leaves each decal's pixel range (with the filter taps' reach): a pixel outside every
      * range of its list is reached by none of them, and reads nothing more either; the list
      * narrows to the entries from the first to the last whose range holds it. Positions from a
@@ -323,12 +310,12 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                 first = min(first, k);
                 last = k;
             }
-        if (first > last) return;
+        if (first > last) return (float3)(0.0f);
         begin = first;
         end = last + 1;
     }
     float3 p;
-    if (!dc_reconstruct(frame, depth_plane, position_plane, x, y, &p)) return;
+    if (!dc_reconstruct(frame, depth_plane, position_plane, x, y, &p)) return (float3)(0.0f);
     const float4 in0 = surface0[i];
     const float4 in1 = has_group1 ? surface1[i] : (float4)(0.0f);
     const float4 in2 = has_group2 ? surface2[i] : (float4)(0.0f);
@@ -397,7 +384,7 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                                        occlusion_maps, textures, texels, s, variant, &applied);
             }
         }
-        if (!applied) return;
+        if (!applied) return (float3)(0.0f);
         const float3 world_normal = s.normal_changed ? dc_camera_to_world_vector(frame, s.normal) : in1.xyz;
         surface0[i] = (float4)(s.albedo, s.roughness);
         if (has_group1) surface1[i] = (float4)(world_normal, s.metallic);
@@ -410,10 +397,47 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
             const uint mixed_surfaces = !point_only && frame->filter_taps > 0 && frame->light_divided && !frame->relight
                                             ? dc_mixed_surfaces(frame, depth_plane, position_plane, x, y, -p.z, in1.xyz)
                                             : 0u;
-            dc_update_beauty(frame, i, (size_t)frame->width * frame->height, in0.xyz, s.albedo, s.emission - in2.xyz,
-                             relight, mixed_surfaces, beauty, light);
+            return dc_beauty_change(frame, i, (size_t)frame->width * frame->height, in0.xyz, s.albedo,
+                                    s.emission - in2.xyz, relight, mixed_surfaces, light);
         }
     }
+    return (float3)(0.0f);
+}
+
+/* One pixel. `variant` (DC_VARIANT_x) is a literal in each kernel below, so the lean kernels carry
+ * none of the code they exclude (fewer registers, faster loops: docs/benchmarks.md). */
+inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float* depth_plane,
+                           __global const float4* position_plane, __global float4* surface0,
+                           __global float4* surface1, __global float4* surface2,
+                           __global const float4* original0, __global const float4* original1,
+                           __global const DcDecal* decals, __global const DcTexture* textures,
+                           __global const float4* texels, __global const int* tile_offsets,
+                           __global const int* tile_decals, __global const DcDecalBounds* decal_bounds, int binned,
+                           int list_capacity,
+                           __global const float* mask_weights,
+                           __global const uint* occlusion_maps, __global float* beauty,
+                           __global float* light, __global const float4* rest_points,
+                           __global const float4* rest_frames, const int variant) {
+    const int x = get_global_id(0), y = get_global_id(1);
+    if (x >= frame->width || y >= frame->height) return;
+    const size_t i = (size_t)y * frame->width + x;
+    /* The planes are changed in place: pixels no decal reaches (background among them) are
+     * neither read nor written, so they keep their samples bit for bit. */
+    int begin = 0, end = frame->decal_count;
+    if (binned) {
+        const int tile = (y / DC_TILE_SIZE) * frame->tiles_x + x / DC_TILE_SIZE;
+        begin = tile_offsets[tile];
+        end = min(tile_offsets[tile + 1], list_capacity); /* an overflowed list: the frame runs again */
+    }
+    /* the tile's list before the pixel's point: tiles no decal reaches read nothing but it */
+    if (begin >= end) return;
+    /* Every pixel of a listed tile writes its beauty change, 0 where nothing changed: the host adds
+     * the changes of exactly those tiles (beauty_transfer.hpp), and the kernel never reads the beauty. */
+    const float3 change = dc_shade_listed_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2,
+                                                original0, original1, decals, textures, texels, tile_decals,
+                                                decal_bounds, binned, begin, end, mask_weights, occlusion_maps, light,
+                                                rest_points, rest_frames, variant, x, y);
+    if (frame->beauty) vstore3(change, i, beauty);
 }
 
 #define DC_SHADE_ARGUMENTS                                                                                       \

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "compositor/surface_planes.hpp"
 #include "decalcomp/error.hpp"
 
@@ -12,15 +14,15 @@ namespace {
 // As the surface groups: packing is memory traffic, spread over the cores for large frames.
 constexpr std::ptrdiff_t kParallelPixels = 1 << 16;
 
-// The sum of the summed terms, packed RGB.
+// The sum of the summed terms, packed RGB: the first copied, the others added plane by plane (a
+// loop the compiler vectorizes, where one over the terms per float did not).
 void packSummedTerms(const BeautyPlanes& planes, float* out) {
     const auto floats = std::ptrdiff_t(planes.beauty.samples.size());
-    const int terms = planes.summed_terms;
-#pragma omp parallel for schedule(static) if (floats >= 3 * kParallelPixels)
-    for (std::ptrdiff_t i = 0; i < floats; ++i) {
-        float sum = 0.0f;
-        for (int t = 0; t < terms; ++t) sum += planes.light[std::size_t(t)].samples[std::size_t(i)];
-        out[i] = sum;
+    parallelCopy(out, planes.light[0].samples.data(), {0, std::size_t(floats)});
+    for (int t = 1; t < planes.summed_terms; ++t) {
+        const float* term = planes.light[std::size_t(t)].samples.data();
+#pragma omp parallel for simd schedule(static) if (floats >= 3 * kParallelPixels)
+        for (std::ptrdiff_t i = 0; i < floats; ++i) out[i] += term[i];
     }
 }
 
@@ -59,9 +61,8 @@ void checkBeautyPlanes(const BeautyPlanes& planes, std::size_t pixels) {
         throw inputError("beauty update: direct and summed term counts out of range");
 }
 
-void packBeautyPlanes(const BeautyPlanes& planes, bool fold, float* beauty, float* light) {
+void packLightTerms(const BeautyPlanes& planes, bool fold, float* light) {
     const std::size_t floats = planes.beauty.samples.size();
-    parallelCopy(beauty, planes.beauty.samples.data(), {0, floats});
     if (fold) {
         if (planes.summed_terms > 0) packSummedTerms(planes, light);
         return;
@@ -70,10 +71,28 @@ void packBeautyPlanes(const BeautyPlanes& planes, bool fold, float* beauty, floa
         parallelCopy(light + t * floats, planes.light[t].samples.data(), {0, floats});
 }
 
-void unpackBeautyPlanes(BeautyPlanes& planes, const float* beauty, const float* light) {
-    const std::size_t floats = planes.beauty.samples.size();
-    parallelCopy(planes.beauty.samples.data(), beauty, {0, floats});
+void unpackBeautyPlanes(BeautyPlanes& planes, int width, int height, const BeautyChangeTiles& where,
+                        const float* changes, const float* light) {
+    float* beauty = planes.beauty.samples.data();
+#pragma omp parallel for schedule(static) if (std::ptrdiff_t(width) * height >= kParallelPixels)
+    for (int y = 0; y < height; ++y)
+        for (int x0 = 0; x0 < width; x0 += DC_TILE_SIZE) {
+            if (where.tile_offsets) {
+                const int tile = (y / DC_TILE_SIZE) * where.tiles_x + x0 / DC_TILE_SIZE;
+                if (where.tile_offsets[tile + 1] <= where.tile_offsets[tile]) continue;
+            } else if (where.decals <= 0) {
+                continue;
+            }
+            const std::size_t row = std::size_t(y) * std::size_t(width);
+            for (std::size_t i = row + std::size_t(x0); i < row + std::size_t(std::min(x0 + DC_TILE_SIZE, width));
+                 ++i) {
+                const float* c = changes + 3 * i;
+                if (c[0] == 0.0f && c[1] == 0.0f && c[2] == 0.0f) continue;
+                for (int k = 0; k < 3; ++k) beauty[3 * i + std::size_t(k)] += c[k];
+            }
+        }
     if (!planes.lightRewritten()) return;
+    const std::size_t floats = planes.beauty.samples.size();
     for (std::size_t t = 0; t < planes.light.size(); ++t)
         parallelCopy(planes.light[t].samples.data(), light + t * floats, {0, floats});
 }

@@ -26,9 +26,24 @@ void setBeautyParams(cl_types::DcFrame& params, const BeautyPlanes* planes, bool
 // Throws Error(Input) when a plane does not cover `pixels` with 3 components.
 void checkBeautyPlanes(const BeautyPlanes& planes, std::size_t pixels);
 
-// Fills `beauty` (pixels x RGB) and `light` (device terms x pixels x RGB) from the planes.
-void packBeautyPlanes(const BeautyPlanes& planes, bool fold, float* beauty, float* light);
-// Writes the kernel's results back: the beauty, and the light terms when the kernel rewrote them.
-void unpackBeautyPlanes(BeautyPlanes& planes, const float* beauty, const float* light);
+// The kernel never reads the beauty: it writes the beauty's change at every pixel of a tile with a
+// decal listed on it, and the host adds the changes (kernels/beauty.h). A changed pixel costs the
+// device its light terms' reads alone, and the beauty crosses to the device not at all.
+
+// Where the kernel wrote changes: the pixels of tiles (DC_TILE_SIZE square, `tiles_x` per row) whose
+// list in the binning's `tile_offsets` (tiles + 1) is not empty; unbinned (no offsets), every pixel
+// when `decals` > 0.
+struct BeautyChangeTiles {
+    const cl_int* tile_offsets = nullptr;
+    int tiles_x = 0;
+    int decals = 0;
+};
+
+// Fills `light` (device terms x pixels x RGB) from the planes.
+void packLightTerms(const BeautyPlanes& planes, bool fold, float* light);
+// Writes the kernel's results back: the beauty plus its changes (a change of 0 leaves the pixel's
+// bits as they are), and the light terms when the kernel rewrote them.
+void unpackBeautyPlanes(BeautyPlanes& planes, int width, int height, const BeautyChangeTiles& where,
+                        const float* changes, const float* light);
 
 }  // namespace decalcomp

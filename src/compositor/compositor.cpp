@@ -95,7 +95,8 @@ struct Compositor::State {
 
     // device memory, grown on demand
     StagedBuffer depth, position, masks;
-    StagedBuffer beauty, light;  // the beauty update's planes (beauty_transfer.hpp)
+    StagedBuffer beauty, light;  // the beauty's changes and its light terms (beauty_transfer.hpp)
+    std::vector<cl_int> beauty_tile_offsets;  // the tiles those changes were written for, read back
     std::array<StagedBuffer, kSurfaceGroups> surface;
     // Filtered frames: surface groups 0 and 1 as uploaded. Split silhouette pixels read their
     // neighbours' albedo and normal, which the shading kernel changes in place meanwhile.
@@ -292,6 +293,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         s.masks.reserve(context, queue, std::max<std::size_t>(s.mask_count * pixels, 1) * sizeof(float), s.unified);
         const std::size_t light_terms = beauty ? deviceLightTerms(*beauty, fold_light) : 0;
         s.beauty.reserve(context, queue, (beauty ? pixels : 1) * kBeautyPixelBytes, s.unified);
+        if (beauty && binned) s.beauty_tile_offsets.resize(tiles + 1);
         s.light.reserve(context, queue, std::max<std::size_t>(light_terms * pixels, 1) * kBeautyPixelBytes, s.unified);
         reserve(context, s.decal_buffer, decals * sizeof(cl_types::DcDecal));
         reserve(context, s.bounds, decals * sizeof(cl_types::DcDecalBounds));
@@ -351,13 +353,9 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 s.masks.uploadRange(queue, 0, s.mask_count * pixels * sizeof(float));
                 s.masks.finishUpload(queue);
             }
-            if (beauty) {
-                auto* beauty_view = static_cast<float*>(s.beauty.beginUpload(queue));
-                auto* light_view = static_cast<float*>(s.light.beginUpload(queue));
-                packBeautyPlanes(*beauty, fold_light, beauty_view, light_view);
-                s.beauty.uploadRange(queue, 0, pixels * kBeautyPixelBytes);
-                if (light_terms > 0) s.light.uploadRange(queue, 0, light_terms * pixels * kBeautyPixelBytes);
-                s.beauty.finishUpload(queue);
+            if (beauty && light_terms > 0) {
+                packLightTerms(*beauty, fold_light, static_cast<float*>(s.light.beginUpload(queue)));
+                s.light.uploadRange(queue, 0, light_terms * pixels * kBeautyPixelBytes);
                 s.light.finishUpload(queue);
             }
 
@@ -468,6 +466,10 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             const bool light_back = beauty && beauty->lightRewritten() && light_terms > 0;
             cl::Event beauty_downloaded, light_downloaded;
             if (beauty) s.beauty.enqueueDownload(queue, 0, pixels * kBeautyPixelBytes, &beauty_downloaded);
+            // which tiles the beauty's changes were written for (beauty_transfer.hpp)
+            if (beauty && binned)
+                queue.enqueueReadBuffer(s.tile_offsets, CL_FALSE, 0, (tiles + 1) * sizeof(cl_int),
+                                        s.beauty_tile_offsets.data());
             if (light_back)
                 s.light.enqueueDownload(queue, 0, light_terms * pixels * kBeautyPixelBytes, &light_downloaded);
             queue.flush();
@@ -500,7 +502,9 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                     light_back ? static_cast<const float*>(
                                      s.light.beginDownload(queue, light_terms * pixels * kBeautyPixelBytes))
                                : nullptr;
-                unpackBeautyPlanes(*beauty, beauty_result, light_result);
+                const BeautyChangeTiles where{binned ? s.beauty_tile_offsets.data() : nullptr, params.tiles_x,
+                                              int(decals)};
+                unpackBeautyPlanes(*beauty, frame.width, frame.height, where, beauty_result, light_result);
                 s.beauty.endDownload(queue);
                 if (light_back) s.light.endDownload(queue);
             }
