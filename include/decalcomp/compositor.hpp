@@ -22,6 +22,9 @@ struct CompositeStats {
     std::int64_t bin_entries = 0;  // sum over tiles of the tile's decal count
     // Device time from profiling events, milliseconds.
     double tile_bounds_ms = 0, binning_ms = 0, shading_ms = 0;
+    // binning_ms in its steps: decal bounds and the coarse lists (level 1), the tiles' tests and
+    // counts, their prefix sum, and the tile lists' fill
+    double bin_coarse_ms = 0, bin_count_ms = 0, bin_scan_ms = 0, bin_fill_ms = 0;
     double occlusion_ms = 0;  // building blast occlusion maps (0 when no decal occludes)
     double rest_ms = 0;       // texture-space decals' rest pass (0 without them)
     double totalKernelMs() const { return tile_bounds_ms + binning_ms + shading_ms + occlusion_ms + rest_ms; }

@@ -515,9 +515,12 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 for (const cl::Event& e : e_rest) stats.rest_ms += eventMs(e);
                 if (binned) {
                     stats.tile_bounds_ms = eventMs(e_tiles);
-                    stats.binning_ms = eventMs(e_bounds) + eventMs(e_cdepth) + eventMs(e_cmask) + eventMs(e_ccount) +
-                                       eventMs(e_cscan) + eventMs(e_cfill) + eventMs(e_count) + eventMs(e_scan) +
-                                       eventMs(e_fill);
+                    stats.bin_coarse_ms = eventMs(e_bounds) + eventMs(e_cdepth) + eventMs(e_cmask) +
+                                          eventMs(e_ccount) + eventMs(e_cscan) + eventMs(e_cfill);
+                    stats.bin_count_ms = eventMs(e_count);
+                    stats.bin_scan_ms = eventMs(e_scan);
+                    stats.bin_fill_ms = eventMs(e_fill);
+                    stats.binning_ms = stats.bin_coarse_ms + stats.bin_count_ms + stats.bin_scan_ms + stats.bin_fill_ms;
                 }
             }
             break;

@@ -5,12 +5,12 @@
 // device kernel time (OpenCL profiling events: tile bounds + binning + shading) and of the wall time
 // of Compositor::composite() (which includes uploads and the download). Links only decalcomp_core,
 // so it runs wherever an OpenCL ICD is installed (docs/benchmarks.md).
-#include <cmath>
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -19,13 +19,13 @@
 #include <string>
 #include <vector>
 
+#include "bake.hpp"
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/device.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/synth.hpp"
 #include "decalcomp/synth_light.hpp"
 #include "median.hpp"
-#include "bake.hpp"
 #include "texture_space.hpp"
 #include "transfers.hpp"
 
@@ -64,10 +64,11 @@ struct Result {
     bool skipped = false;
     double kernel_ms = 0, tile_bounds_ms = 0, binning_ms = 0, shading_ms = 0, wall_ms = 0;
     double kernel_min_ms = 0, kernel_max_ms = 0;
+    double bin_coarse_ms = 0, bin_count_ms = 0, bin_scan_ms = 0, bin_fill_ms = 0;  // binning_ms's steps
     std::int64_t bin_entries = 0;
     int tiles = 0;
-    int max_per_tile = 0;       // longest tile list (binned)
-    double mean_per_tile = 0;   // mean list length over all tiles (binned)
+    int max_per_tile = 0;      // longest tile list (binned)
+    double mean_per_tile = 0;  // mean list length over all tiles (binned)
 };
 
 struct Options {
@@ -82,11 +83,11 @@ struct Options {
     double same_coverage = 0;  // > 0: each count's decals share the area of one decal of this edge
     int texture_count = 4, texture_size = 32;
     std::uint32_t seed = 1;
-    std::string modes = "both";  // both, binned, unbinned
-    std::string kind = "box";    // decal kind of every decal
-    bool materials = false;      // full texture sets: normal maps and ORM into normal/roughness/metallic
-    bool transfers = true;       // measure the transfer and bandwidth floors per size
-    bool beauty = false;         // also rebuild a beauty from two light terms (synth_light.hpp)
+    std::string modes = "both";         // both, binned, unbinned
+    std::string kind = "box";           // decal kind of every decal
+    bool materials = false;             // full texture sets: normal maps and ORM into normal/roughness/metallic
+    bool transfers = true;              // measure the transfer and bandwidth floors per size
+    bool beauty = false;                // also rebuild a beauty from two light terms (synth_light.hpp)
     std::string pixel_filter = "none";  // decals integrated over this pixel filter (pixel_filter.hpp)
 };
 
@@ -103,8 +104,8 @@ BeautyPlanes benchBeautyPlanes(const GBuffer& full) {
     return planes;
 }
 
-Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camera, int decals, bool binned,
-               int repeat, const BeautyPlanes* beauty) {
+Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camera, int decals, bool binned, int repeat,
+               const BeautyPlanes* beauty) {
     Result r;
     r.size = {frame.width, frame.height};
     r.decals = decals;
@@ -118,7 +119,8 @@ Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camer
     // Warm-up: first launches, allocations, lazy compilation in some drivers.
     CompositeStats warm = compositor.composite(work, camera, options, work_beauty ? &*work_beauty : nullptr);
     r.tiles = warm.tiles;
-    const int expected_tiles = ((frame.width + kTileSize - 1) / kTileSize) * ((frame.height + kTileSize - 1) / kTileSize);
+    const int expected_tiles =
+        ((frame.width + kTileSize - 1) / kTileSize) * ((frame.height + kTileSize - 1) / kTileSize);
     if (warm.tiles != expected_tiles)
         fmt::print(stderr, "warning: {} tiles, expected {} for {}-pixel tiles; test ratios are off\n", warm.tiles,
                    expected_tiles, kTileSize);
@@ -131,7 +133,7 @@ Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camer
         r.mean_per_tile = tiles ? double(r.bin_entries) / double(tiles) : 0.0;
     }
 
-    std::vector<double> kernel, tile_bounds, binning, shading, wall;
+    std::vector<double> kernel, tile_bounds, binning, shading, wall, coarse, count, scan, fill;
     for (int i = 0; i < repeat; ++i) {
         work.planes.at(Attribute::Albedo) = pristine;  // same input every repetition, not timed
         if (beauty) *work_beauty = *beauty;
@@ -141,17 +143,25 @@ Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camer
         kernel.push_back(s.totalKernelMs());
         tile_bounds.push_back(s.tile_bounds_ms);
         binning.push_back(s.binning_ms);
+        coarse.push_back(s.bin_coarse_ms);
+        count.push_back(s.bin_count_ms);
+        scan.push_back(s.bin_scan_ms);
+        fill.push_back(s.bin_fill_ms);
         shading.push_back(s.shading_ms);
         wall.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
         if (s.bin_entries != r.bin_entries)
-            throw deviceError(fmt::format("bin entries changed between repetitions: {} then {}", r.bin_entries,
-                                          s.bin_entries));
+            throw deviceError(
+                fmt::format("bin entries changed between repetitions: {} then {}", r.bin_entries, s.bin_entries));
     }
     r.kernel_ms = median(kernel);
     r.kernel_min_ms = *std::min_element(kernel.begin(), kernel.end());
     r.kernel_max_ms = *std::max_element(kernel.begin(), kernel.end());
     r.tile_bounds_ms = median(tile_bounds);
     r.binning_ms = median(binning);
+    r.bin_coarse_ms = median(coarse);
+    r.bin_count_ms = median(count);
+    r.bin_scan_ms = median(scan);
+    r.bin_fill_ms = median(fill);
     r.shading_ms = median(shading);
     r.wall_ms = median(wall);
     return r;
@@ -164,7 +174,9 @@ const Result* find(const std::vector<Result>& results, int w, int h, int decals,
     return nullptr;
 }
 
-std::string ms(double v) { return v >= 100 ? fmt::format("{:.1f}", v) : v >= 1 ? fmt::format("{:.2f}", v) : fmt::format("{:.3f}", v); }
+std::string ms(double v) {
+    return v >= 100 ? fmt::format("{:.1f}", v) : v >= 1 ? fmt::format("{:.2f}", v) : fmt::format("{:.3f}", v);
+}
 
 void printTable(const std::vector<Result>& results, std::FILE* out) {
     fmt::print(out, "{:>9} {:>6} {:>8} | {:>10} {:>8} {:>8} {:>10} | {:>10} | {:>10} {:>8} {:>8} | {:>9}\n", "size",
@@ -194,17 +206,20 @@ void printTable(const std::vector<Result>& results, std::FILE* out) {
 
 void writeCsv(const std::vector<Result>& results, std::ostream& out) {
     out << "width,height,decals,mode,status,kernel_ms,kernel_min_ms,kernel_max_ms,tile_bounds_ms,binning_ms,"
-           "shading_ms,wall_ms,tiles,bin_entries,mean_per_tile,max_per_tile\n";
+           "shading_ms,wall_ms,tiles,bin_entries,mean_per_tile,max_per_tile,bin_coarse_ms,bin_count_ms,bin_scan_ms,"
+           "bin_fill_ms\n";
     for (const auto& r : results) {
         out << fmt::format("{},{},{},{},{}", r.size.width, r.size.height, r.decals, r.binned ? "binned" : "unbinned",
                            r.skipped ? "skipped" : "ok");
         if (r.skipped) {
-            out << ",,,,,,,,,,,\n";
+            out << ",,,,,,,,,,,,,,,\n";
             continue;
         }
-        out << fmt::format(",{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{},{},{:.3f},{}\n", r.kernel_ms,
-                           r.kernel_min_ms, r.kernel_max_ms, r.tile_bounds_ms, r.binning_ms, r.shading_ms, r.wall_ms,
-                           r.tiles, r.binned ? r.bin_entries : 0, r.mean_per_tile, r.max_per_tile);
+        out << fmt::format(
+            ",{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{},{},{:.3f},{},{:.4f},{:.4f},{:.4f},{:.4f}\n",
+            r.kernel_ms, r.kernel_min_ms, r.kernel_max_ms, r.tile_bounds_ms, r.binning_ms, r.shading_ms, r.wall_ms,
+            r.tiles, r.binned ? r.bin_entries : 0, r.mean_per_tile, r.max_per_tile, r.bin_coarse_ms, r.bin_count_ms,
+            r.bin_scan_ms, r.bin_fill_ms);
     }
 }
 
@@ -226,7 +241,9 @@ void printHeadline(const std::vector<Result>& results, std::FILE* out) {
                        tests_binned > 0 ? tests_unbinned / tests_binned : 0.0);
         } else {
             fmt::print(out, "  {:>4} decals: unbinned / binned = n/a ({} not run or skipped)\n", n,
-                       !b && !u ? "binned and unbinned" : !b ? "binned" : "unbinned");
+                       !b && !u ? "binned and unbinned"
+                       : !b     ? "binned"
+                                : "unbinned");
         }
     }
     const Result* b1 = find(results, 1920, 1080, 1, true);
@@ -283,7 +300,8 @@ int main(int argc, char** argv) {
     app.add_option("--csv", opt.csv, "also write the results as CSV to this file (\"-\": CSV on stdout, no table)");
     app.add_option("--max-unbinned-work", opt.max_unbinned_work,
                    "skip unbinned cases with pixels x decals above this (default 1920*1080*4096)");
-    app.add_option("--modes", opt.modes, "both, binned or unbinned")->check(CLI::IsMember({"both", "binned", "unbinned"}));
+    app.add_option("--modes", opt.modes, "both, binned or unbinned")
+        ->check(CLI::IsMember({"both", "binned", "unbinned"}));
     app.add_option("--min-size", opt.min_size, "smallest decal edge, world units (demo scene is ~10 units across)");
     app.add_option("--max-size", opt.max_size, "largest decal edge, world units");
     app.add_option("--same-coverage", opt.same_coverage,
@@ -347,7 +365,8 @@ int main(int argc, char** argv) {
                    di.version, di.device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>(),
                    di.device.getInfo<CL_DEVICE_MAX_CLOCK_FREQUENCY>());
         if (opt.same_coverage > 0)
-            fmt::print(info, "decals: N of edge {} / sqrt(N) world units (the same coverage for every count)", opt.same_coverage);
+            fmt::print(info, "decals: N of edge {} / sqrt(N) world units (the same coverage for every count)",
+                       opt.same_coverage);
         else
             fmt::print(info, "decals: {}-{} world units", opt.min_size, opt.max_size);
         fmt::print(info, ", {} textures of {}^2 texels, seed {}; repeat {} (median), 1 warm-up\n", opt.texture_count,
@@ -406,7 +425,8 @@ int main(int argc, char** argv) {
                 auto used = [&](Attribute a) {
                     if (a == Attribute::Depth || a == Attribute::Albedo) return true;
                     if (a == Attribute::Normal && frame.pixel_filter.enabled()) return true;
-                    return opt.materials && (a == Attribute::Normal || a == Attribute::Roughness || a == Attribute::Metallic);
+                    return opt.materials &&
+                           (a == Attribute::Normal || a == Attribute::Roughness || a == Attribute::Metallic);
                 };
                 for (auto it = frame.planes.begin(); it != frame.planes.end();)
                     it = used(it->first) ? std::next(it) : frame.planes.erase(it);
