@@ -169,35 +169,46 @@ __kernel void dc_coarse_depth(__constant const DcFrame* frame, __global const fl
 }
 
 /* Level 1 in three data-parallel steps, ordered by construction: decals are split into chunks of
- * DC_DECALS_PER_MASK_WORD; one work-item per (coarse tile, chunk) sets a bit per overlapping
- * decal; per coarse tile the chunk popcounts are prefix-summed; then each (coarse tile, chunk)
- * writes its set bits in order. */
+ * DC_DECALS_PER_MASK_WORD, and each (coarse tile, chunk) has a mask word with a bit per decal that
+ * overlaps the coarse tile. DC_MARK_LANES work-items per decal set its bits over the coarse tiles
+ * its tile rectangle covers (the words start zeroed); per coarse tile the chunk popcounts are
+ * prefix-summed; then each (coarse tile, chunk) writes its set bits in order. A mask word is two
+ * uints, low bits first, so that 32-bit atomics (core OpenCL C) can set its bits. */
 inline int dc_decal_chunks(__constant const DcFrame* f) {
     return (f->decal_count + DC_DECALS_PER_MASK_WORD - 1) / DC_DECALS_PER_MASK_WORD;
 }
 
-__kernel void dc_coarse_mask(__constant const DcFrame* frame, __global const DcDecalBounds* bounds,
-                             __global const float2* coarse_depth, __global ulong* masks) {
-    const int chunks = dc_decal_chunks(frame);
-    const int cx_count = dc_coarse_tiles_x(frame);
-    const int item = get_global_id(0);
-    if (item >= cx_count * dc_coarse_tiles_y(frame) * chunks) return;
-    const int c = item / chunks, k = item % chunks;
-    const float2 range = coarse_depth[c];
-    const int tx0 = (c % cx_count) * DC_COARSE_TILES, ty0 = (c / cx_count) * DC_COARSE_TILES;
-    ulong bits = 0;
-    if (range.x <= range.y) {
-        const int first = k * DC_DECALS_PER_MASK_WORD;
-        const int last = min(frame->decal_count, first + DC_DECALS_PER_MASK_WORD);
-        for (int d = first; d < last; ++d)
-            if (dc_overlaps(bounds[d], tx0, ty0, tx0 + DC_COARSE_TILES - 1, ty0 + DC_COARSE_TILES - 1, range))
-                bits |= (ulong)1 << (d - first);
+inline ulong dc_mask_word(__global const uint* masks, int item) {
+    return (ulong)masks[2 * item] | ((ulong)masks[2 * item + 1] << 32);
+}
+
+/* Work is per decal and coarse tile it covers, not per coarse tile and decal: small decals cover
+ * few coarse tiles, and a frame of many decals tests each once or a few times instead of against
+ * every coarse tile. */
+__kernel void dc_coarse_mark(__constant const DcFrame* frame, __global const DcDecalBounds* bounds,
+                             __global const float2* coarse_depth, __global uint* masks) {
+    const int d = get_global_id(0) / DC_MARK_LANES, lane = get_global_id(0) % DC_MARK_LANES;
+    if (d >= frame->decal_count) return;
+    const DcDecalBounds b = bounds[d];
+    if (b.tile_x1 < b.tile_x0 || b.tile_y1 < b.tile_y0) return;
+    const int chunks = dc_decal_chunks(frame), cx_count = dc_coarse_tiles_x(frame);
+    const int cx0 = b.tile_x0 / DC_COARSE_TILES, cy0 = b.tile_y0 / DC_COARSE_TILES;
+    const int columns = b.tile_x1 / DC_COARSE_TILES - cx0 + 1;
+    const int covered = columns * (b.tile_y1 / DC_COARSE_TILES - cy0 + 1);
+    const int word = 2 * (d / DC_DECALS_PER_MASK_WORD) + (d % DC_DECALS_PER_MASK_WORD) / 32;
+    for (int j = lane; j < covered; j += DC_MARK_LANES) {
+        const int cx = cx0 + j % columns, cy = cy0 + j / columns;
+        const int c = cy * cx_count + cx;
+        const float2 range = coarse_depth[c];
+        const int tx0 = cx * DC_COARSE_TILES, ty0 = cy * DC_COARSE_TILES;
+        if (range.x <= range.y &&
+            dc_overlaps(b, tx0, ty0, tx0 + DC_COARSE_TILES - 1, ty0 + DC_COARSE_TILES - 1, range))
+            atomic_or(&masks[2 * c * chunks + word], 1u << (d % 32));
     }
-    masks[item] = bits;
 }
 
 /* Per coarse tile: where each chunk's entries start within the tile's list, and the list length. */
-__kernel void dc_coarse_count(__constant const DcFrame* frame, __global const ulong* masks,
+__kernel void dc_coarse_count(__constant const DcFrame* frame, __global const uint* masks,
                               __global int* chunk_starts, __global int* counts) {
     const int chunks = dc_decal_chunks(frame);
     const int c = get_global_id(0);
@@ -205,21 +216,21 @@ __kernel void dc_coarse_count(__constant const DcFrame* frame, __global const ul
     int n = 0;
     for (int k = 0; k < chunks; ++k) {
         chunk_starts[c * chunks + k] = n;
-        n += (int)popcount(masks[c * chunks + k]);
+        n += (int)popcount(dc_mask_word(masks, c * chunks + k));
     }
     counts[c] = n;
 }
 
 /* `capacity` entries fit in `lists`; the host compares the total (offsets[count]) with it after
  * the frame and, when it did not fit, grows the list and runs the frame again. */
-__kernel void dc_coarse_fill(__constant const DcFrame* frame, __global const ulong* masks,
+__kernel void dc_coarse_fill(__constant const DcFrame* frame, __global const uint* masks,
                              __global const int* chunk_starts, __global const int* offsets,
                              __global int* lists, int capacity) {
     const int chunks = dc_decal_chunks(frame);
     const int item = get_global_id(0);
     if (item >= dc_coarse_tiles_x(frame) * dc_coarse_tiles_y(frame) * chunks) return;
     const int c = item / chunks, k = item % chunks;
-    ulong bits = masks[item];
+    ulong bits = dc_mask_word(masks, item);
     int next = offsets[c] + chunk_starts[item];
     while (bits != 0 && next < capacity) {
         const int bit = (int)(63 - clz(bits & (~bits + 1))); /* lowest set bit */

@@ -338,11 +338,17 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
         s.ao = in2.w;
         s.normal_changed = 0;
         int applied = 0;
+#ifdef DC_POINT_SHADING_ONLY
+        /* The point program (device.cpp) holds the point kernels alone: none of the filter's or the
+         * rest pose's code reaches its compiler, whose cold build that code slowed down. */
+        if (1) {
+#else
         DcTaps taps = !point_only && frame->filter_taps > 0 && has_normal
                                 ? dc_taps(frame, depth_plane, position_plane, original0, original1, frame->has_normal, x,
                                           y, p, normal)
                                 : dc_point_taps();
         if (point_only || (taps.mode == DC_TAPS_POINT && !frame->rest_decals)) {
+#endif
             /* The common case in a loop of its own: without the branches to the pixel filter and the
              * rest pose in its body the compiler keeps it lean (PoCL: 1.4x, docs/benchmarks.md). */
             /* outside a decal's pixel range, no transform (pixel_test above) */
@@ -352,6 +358,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                 s = dc_point_decal(frame, &decals[index], p, normal, has_normal, p_dx, p_dy, footprint, x, y,
                                    mask_weights, occlusion_maps, textures, texels, s, variant, &applied);
             }
+#ifndef DC_POINT_SHADING_ONLY
         } else if (taps.mode == DC_TAPS_PLANE && !frame->rest_decals && !frame->filter_fast) {
             s = dc_filter_stacked(frame, decals, tile_decals, binned, begin, end, &taps.rays, &taps.plane, has_normal,
                                   x, y, mask_weights, textures, texels, occlusion_maps, s, variant, &applied);
@@ -383,6 +390,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                     s = dc_point_decal(frame, d, p, normal, has_normal, p_dx, p_dy, footprint, x, y, mask_weights,
                                        occlusion_maps, textures, texels, s, variant, &applied);
             }
+#endif
         }
         if (!applied) return (float3)(0.0f);
         const float3 world_normal = s.normal_changed ? dc_camera_to_world_vector(frame, s.normal) : in1.xyz;
@@ -394,9 +402,13 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                                       ? dc_relight_ratio(frame, normalize(in1.xyz), world_normal)
                                       : 1.0f;
             /* mixed pixels of filtered frames, for divided light without relighting (beauty.h) */
+#ifdef DC_POINT_SHADING_ONLY
+            const uint mixed_surfaces = 0u;
+#else
             const uint mixed_surfaces = !point_only && frame->filter_taps > 0 && frame->light_divided && !frame->relight
                                             ? dc_mixed_surfaces(frame, depth_plane, position_plane, x, y, -p.z, in1.xyz)
                                             : 0u;
+#endif
             return dc_beauty_change(frame, i, (size_t)frame->width * frame->height, in0.xyz, s.albedo,
                                     s.emission - in2.xyz, relight, mixed_surfaces, light);
         }

@@ -43,6 +43,8 @@ namespace decalcomp::cl_types {
  * a frame's decals are split into (decal_count + DC_DECALS_PER_MASK_WORD - 1) /
  * DC_DECALS_PER_MASK_WORD chunks. */
 #define DC_DECALS_PER_MASK_WORD 64
+/* Work-items per decal that mark the coarse tiles it overlaps (dc_coarse_mark, binning.cl). */
+#define DC_MARK_LANES 32
 /* The prefix sums of tile counts run in one work-group of DC_SCAN_GROUP work-items (scan.cl). */
 #define DC_SCAN_GROUP 256
 

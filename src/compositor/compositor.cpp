@@ -6,9 +6,9 @@
 #include <array>
 #include <climits>
 #include <cstdlib>
-#include <string>
 #include <cstring>
 #include <map>
+#include <string>
 
 #include "compositor/beauty_transfer.hpp"
 #include "compositor/device_buffers.hpp"
@@ -95,14 +95,14 @@ struct Compositor::State {
 
     // device memory, grown on demand
     StagedBuffer depth, position, masks;
-    StagedBuffer beauty, light;  // the beauty's changes and its light terms (beauty_transfer.hpp)
+    StagedBuffer beauty, light;               // the beauty's changes and its light terms (beauty_transfer.hpp)
     std::vector<cl_int> beauty_tile_offsets;  // the tiles those changes were written for, read back
     std::array<StagedBuffer, kSurfaceGroups> surface;
     // Filtered frames: surface groups 0 and 1 as uploaded. Split silhouette pixels read their
     // neighbours' albedo and normal, which the shading kernel changes in place meanwhile.
     std::array<cl::Buffer, 2> original;
-    cl::Buffer frame_buffer, decal_buffer, bounds, tile_depth, coarse_depth, coarse_counts, coarse_offsets,
-        chunk_masks, chunk_starts, coarse_lists, tile_counts, tile_offsets, tile_decals, totals_buffer;
+    cl::Buffer frame_buffer, decal_buffer, bounds, tile_depth, coarse_depth, coarse_counts, coarse_offsets, chunk_masks,
+        chunk_starts, coarse_lists, tile_counts, tile_offsets, tile_decals, totals_buffer;
     // Per coarse-list entry, a flag for each tile of its coarse tile: the binning's count pass
     // leaves its tests there for the fill pass.
     cl::Buffer listed;
@@ -125,8 +125,10 @@ Compositor::Compositor(ComputeDevice& device) : device_(device) {
         s.cpu = (device_.info().device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0;
         // DECALCOMP_STAGING=pinned|mapped overrides the choice (tests run the pinned path on PoCL)
         if (const char* staging = std::getenv("DECALCOMP_STAGING")) {
-            if (std::string(staging) == "pinned") s.unified = false;
-            else if (std::string(staging) == "mapped") s.unified = true;
+            if (std::string(staging) == "pinned")
+                s.unified = false;
+            else if (std::string(staging) == "mapped")
+                s.unified = true;
         }
         s.frame_buffer = cl::Buffer(device_.context(), CL_MEM_READ_ONLY, sizeof(cl_types::DcFrame));
         s.totals_buffer = cl::Buffer(device_.context(), CL_MEM_READ_WRITE, 2 * sizeof(cl_int));
@@ -140,7 +142,9 @@ Compositor::~Compositor() = default;
 
 namespace {
 
-bool needsBake(const Decal& d) { return d.space == DecalSpace::ObjectRest && d.rest_mode == RestMode::Bake && !d.baked; }
+bool needsBake(const Decal& d) {
+    return d.space == DecalSpace::ObjectRest && d.rest_mode == RestMode::Bake && !d.baked;
+}
 int bakeSlot(const Decal& d, std::size_t index) { return d.bake_slot >= 0 ? d.bake_slot : int(index); }
 
 }  // namespace
@@ -188,8 +192,8 @@ void Compositor::setDecals(const std::vector<Decal>& input) {
         if (!needsBake(decals[k])) continue;
         const auto bake = state_->bakes.find(bakeSlot(decals[k], k));
         if (bake == state_->bakes.end())
-            throw inputError(fmt::format("decal '{}': bake mode, and the scene set had no such decal to bake",
-                                         decals[k].name));
+            throw inputError(
+                fmt::format("decal '{}': bake mode, and the scene set had no such decal to bake", decals[k].name));
         decals[k] = bakedDecal(decals[k], bake->second[0], bake->second[1], bake->second[2]);
     }
     for (const Decal& d : decals) {
@@ -198,7 +202,8 @@ void Compositor::setDecals(const std::vector<Decal>& input) {
                 throw inputError(fmt::format("decal '{}': texture index {} out of range", d.name, index));
         if (d.mask >= int(state_->mask_count))
             throw inputError(fmt::format("decal '{}': mask index {} out of range", d.name, d.mask));
-        if (d.space == DecalSpace::ObjectRest && (d.rest_mesh < 0 || d.rest_mesh >= int(state_->rest_meshes.grids.size())))
+        if (d.space == DecalSpace::ObjectRest &&
+            (d.rest_mesh < 0 || d.rest_mesh >= int(state_->rest_meshes.grids.size())))
             throw inputError(fmt::format("decal '{}': rest mesh index {} out of range", d.name, d.rest_mesh));
     }
     state_->scene.decals = decals;
@@ -284,8 +289,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         s.depth.reserve(context, queue, (frame.has(Attribute::Depth) ? pixels : 1) * sizeof(float), s.unified);
         s.position.reserve(context, queue, (uses_position ? pixels : 1) * sizeof(cl_float4), s.unified);
         for (int g = 0; g < kSurfaceGroups; ++g)
-            s.surface[std::size_t(g)].reserve(context, queue, (surface.used[std::size_t(g)] ? pixels : 1) * sizeof(cl_float4),
-                                              s.unified);
+            s.surface[std::size_t(g)].reserve(
+                context, queue, (surface.used[std::size_t(g)] ? pixels : 1) * sizeof(cl_float4), s.unified);
         const bool filtered = params.filter_taps > 0;
         for (int g = 0; g < 2; ++g)
             reserve(context, s.original[std::size_t(g)],
@@ -305,7 +310,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         reserve(context, s.chunk_starts, coarse * chunks * sizeof(cl_int));
         reserve(context, s.tile_counts, tiles * sizeof(cl_int));
         reserve(context, s.tile_offsets, (tiles + 1) * sizeof(cl_int));
-        if (s.coarse_capacity == 0) s.coarse_capacity = listCapacity(std::int64_t(coarse) * 4 + std::int64_t(decals) * 4);
+        if (s.coarse_capacity == 0)
+            s.coarse_capacity = listCapacity(std::int64_t(coarse) * 4 + std::int64_t(decals) * 4);
         if (s.list_capacity == 0) s.list_capacity = listCapacity(std::int64_t(tiles) * 4 + std::int64_t(decals) * 16);
 
         // ---- one pass; again only when a list outgrew its capacity (then grown to fit) ----
@@ -360,16 +366,17 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             }
 
             cl::Event totals_read;
-            cl::Event e_tiles, e_bounds, e_cdepth, e_cmask, e_ccount, e_cscan, e_cfill, e_count, e_scan, e_fill;
+            cl::Event e_tiles, e_bounds, e_cdepth, e_cclear, e_cmask, e_ccount, e_cscan, e_cfill, e_count, e_scan,
+                e_fill;
             const cl::Buffer& depth = s.depth.device();
             const cl::Buffer& position = s.position.device();
             const bool full_shading = params.filter_taps > 0 || params.rest_decals;
             if (!s.kernels) s.kernels.emplace(device_.program(full_shading));
             CompositorKernels& k = *s.kernels;
             if (binned) {
-                e_tiles = s.cpu ? k.tile_bounds_serial(
-                                    cl::EnqueueArgs(queue, cl::NDRange(roundUp(tiles, kBinGroupSize))),
-                                    s.frame_buffer, depth, position, s.tile_depth)
+                e_tiles = s.cpu
+                              ? k.tile_bounds_serial(cl::EnqueueArgs(queue, cl::NDRange(roundUp(tiles, kBinGroupSize))),
+                                                     s.frame_buffer, depth, position, s.tile_depth)
                               : k.tile_bounds(cl::EnqueueArgs(queue,
                                                               cl::NDRange(std::size_t(params.tiles_x) * DC_TILE_SIZE,
                                                                           std::size_t(params.tiles_y) * DC_TILE_SIZE),
@@ -378,14 +385,17 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 e_bounds = k.decal_bounds(
                     cl::EnqueueArgs(queue, cl::NDRange(roundUp(decals, kBinGroupSize)), cl::NDRange(kBinGroupSize)),
                     s.frame_buffer, s.decal_buffer, s.bounds);
-                // Level 1: coarse tiles against every decal, 64 decals per mask word.
+                // Level 1: each decal marks the coarse tiles it overlaps, 64 decals per mask word.
                 const cl::NDRange coarse_range(roundUp(coarse, kBinGroupSize)),
                     pair_range(roundUp(coarse * chunks, kBinGroupSize));
                 const cl::NDRange scan_range(DC_SCAN_GROUP);
-                e_cdepth = k.coarse_depth(cl::EnqueueArgs(queue, coarse_range), s.frame_buffer, s.tile_depth,
-                                          s.coarse_depth);
-                e_cmask = k.coarse_mask(cl::EnqueueArgs(queue, pair_range), s.frame_buffer, s.bounds, s.coarse_depth,
-                                        s.chunk_masks);
+                e_cdepth =
+                    k.coarse_depth(cl::EnqueueArgs(queue, coarse_range), s.frame_buffer, s.tile_depth, s.coarse_depth);
+                queue.enqueueFillBuffer(s.chunk_masks, cl_uint(0), 0, coarse * chunks * sizeof(cl_ulong), nullptr,
+                                        &e_cclear);
+                e_cmask =
+                    k.coarse_mark(cl::EnqueueArgs(queue, cl::NDRange(roundUp(decals * DC_MARK_LANES, kBinGroupSize))),
+                                  s.frame_buffer, s.bounds, s.coarse_depth, s.chunk_masks);
                 e_ccount = k.coarse_count(cl::EnqueueArgs(queue, coarse_range), s.frame_buffer, s.chunk_masks,
                                           s.chunk_starts, s.coarse_counts);
                 e_cscan = k.scan(cl::EnqueueArgs(queue, scan_range, scan_range), s.coarse_counts, cl_int(coarse),
@@ -400,8 +410,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 e_scan = k.scan(cl::EnqueueArgs(queue, scan_range, scan_range), s.tile_counts, cl_int(tiles),
                                 s.tile_offsets);
                 e_fill = k.bin_fill(cl::EnqueueArgs(queue, tile_range), s.frame_buffer, s.coarse_offsets,
-                                    s.coarse_lists, cl_int(s.coarse_capacity), s.listed, s.tile_offsets,
-                                    s.tile_decals, cl_int(s.list_capacity));
+                                    s.coarse_lists, cl_int(s.coarse_capacity), s.listed, s.tile_offsets, s.tile_decals,
+                                    cl_int(s.list_capacity));
                 queue.enqueueCopyBuffer(s.coarse_offsets, s.totals_buffer, coarse * sizeof(cl_int), 0, sizeof(cl_int));
                 queue.enqueueCopyBuffer(s.tile_offsets, s.totals_buffer, tiles * sizeof(cl_int), sizeof(cl_int),
                                         sizeof(cl_int));
@@ -444,14 +454,12 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 if (filtered && surface.used[std::size_t(g)])
                     queue.enqueueCopyBuffer(s.surface[std::size_t(g)].device(), s.original[std::size_t(g)], 0, 0,
                                             pixels * sizeof(cl_float4));
-            const cl::Event e_shade = shade(
-                shade_range,
-                s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(), s.surface[2].device(),
-                s.original[0], s.original[1],
-                s.decal_buffer, s.texture_table, s.texels, s.tile_offsets, s.tile_decals, s.bounds,
-                cl_int(binned ? 1 : 0),
-                cl_int(s.list_capacity), s.masks.device(), occlusion_maps, s.beauty.device(), s.light.device(),
-                s.rest_pass.points, s.rest_pass.frames);
+            const cl::Event e_shade =
+                shade(shade_range, s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(),
+                      s.surface[2].device(), s.original[0], s.original[1], s.decal_buffer, s.texture_table, s.texels,
+                      s.tile_offsets, s.tile_decals, s.bounds, cl_int(binned ? 1 : 0), cl_int(s.list_capacity),
+                      s.masks.device(), occlusion_maps, s.beauty.device(), s.light.device(), s.rest_pass.points,
+                      s.rest_pass.frames);
             // Only the groups that hold a changed attribute come back, run by run, each unpacked
             // while the next is still on its way.
             std::vector<std::array<cl::Event, kSurfaceGroups>> downloaded(static_cast<std::size_t>(runs));
@@ -474,7 +482,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 s.light.enqueueDownload(queue, 0, light_terms * pixels * kBeautyPixelBytes, &light_downloaded);
             queue.flush();
             if (binned) totals_read.wait();  // the binning's totals are back long before the planes
-            if (binned && (std::size_t(s.totals[0]) > s.coarse_capacity || std::size_t(s.totals[1]) > s.list_capacity)) {
+            if (binned &&
+                (std::size_t(s.totals[0]) > s.coarse_capacity || std::size_t(s.totals[1]) > s.list_capacity)) {
                 queue.finish();
                 // A coarse list that overflowed also cut the tile counts short: at most two regrowths.
                 if (attempt >= 2) throw deviceError("binning: the tile lists outgrew their capacity three times");
@@ -498,10 +507,9 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 queue.finish();
                 const auto* beauty_result =
                     static_cast<const float*>(s.beauty.beginDownload(queue, pixels * kBeautyPixelBytes));
-                const auto* light_result =
-                    light_back ? static_cast<const float*>(
-                                     s.light.beginDownload(queue, light_terms * pixels * kBeautyPixelBytes))
-                               : nullptr;
+                const auto* light_result = light_back ? static_cast<const float*>(s.light.beginDownload(
+                                                            queue, light_terms * pixels * kBeautyPixelBytes))
+                                                      : nullptr;
                 const BeautyChangeTiles where{binned ? s.beauty_tile_offsets.data() : nullptr, params.tiles_x,
                                               int(decals)};
                 unpackBeautyPlanes(*beauty, frame.width, frame.height, where, beauty_result, light_result);
@@ -515,7 +523,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 for (const cl::Event& e : e_rest) stats.rest_ms += eventMs(e);
                 if (binned) {
                     stats.tile_bounds_ms = eventMs(e_tiles);
-                    stats.bin_coarse_ms = eventMs(e_bounds) + eventMs(e_cdepth) + eventMs(e_cmask) +
+                    stats.bin_coarse_ms = eventMs(e_bounds) + eventMs(e_cdepth) + eventMs(e_cclear) + eventMs(e_cmask) +
                                           eventMs(e_ccount) + eventMs(e_cscan) + eventMs(e_cfill);
                     stats.bin_count_ms = eventMs(e_count);
                     stats.bin_scan_ms = eventMs(e_scan);

@@ -17,7 +17,7 @@ CompositorKernels::CompositorKernels(const cl::Program& program)
       tile_bounds_serial(program, "dc_tile_bounds_serial"),
       decal_bounds(program, "dc_decal_bounds"),
       coarse_depth(program, "dc_coarse_depth"),
-      coarse_mask(program, "dc_coarse_mask"),
+      coarse_mark(program, "dc_coarse_mark"),
       coarse_count(program, "dc_coarse_count"),
       coarse_fill(program, "dc_coarse_fill"),
       bin_count(program, "dc_bin_count"),

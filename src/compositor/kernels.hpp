@@ -23,7 +23,7 @@ struct CompositorKernels {
     // frame, tile depth, coarse depth
     cl::KernelFunctor<Buffer, Buffer, Buffer> coarse_depth;
     // frame, decal bounds, coarse depth, masks
-    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> coarse_mask;
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> coarse_mark;
     // frame, masks, chunk starts, coarse counts
     cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> coarse_count;
     // frame, masks, chunk starts, coarse offsets, coarse lists, coarse capacity
