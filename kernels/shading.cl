@@ -319,6 +319,10 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
     const float4 in0 = surface0[i];
     const float4 in1 = has_group1 ? surface1[i] : (float4)(0.0f);
     const float4 in2 = has_group2 ? surface2[i] : (float4)(0.0f);
+    /* the light terms' loads before the decals, so that their latency hides behind the decal loop */
+    const size_t pixels = (size_t)frame->width * frame->height;
+    const float3 early_l0 = frame->beauty && frame->light_terms > 0 ? vload3(i, light) : (float3)(0.0f);
+    const float3 early_l1 = frame->beauty && frame->light_terms > 1 ? vload3(pixels + i, light) : (float3)(0.0f);
     {
         float3 normal = (float3)(0.0f);
         if (frame->reconstruct_normals)
@@ -409,8 +413,8 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                                             ? dc_mixed_surfaces(frame, depth_plane, position_plane, x, y, -p.z, in1.xyz)
                                             : 0u;
 #endif
-            return dc_beauty_change(frame, i, (size_t)frame->width * frame->height, in0.xyz, s.albedo,
-                                    s.emission - in2.xyz, relight, mixed_surfaces, light);
+            return dc_beauty_change(frame, i, pixels, in0.xyz, s.albedo, s.emission - in2.xyz, relight,
+                                    mixed_surfaces, light, early_l0, early_l1);
         }
     }
     return (float3)(0.0f);
