@@ -207,9 +207,54 @@ __kernel void dc_coarse_mark(__constant const DcFrame* frame, __global const DcD
     }
 }
 
-/* Per coarse tile: where each chunk's entries start within the tile's list, and the list length. */
-__kernel void dc_coarse_count(__constant const DcFrame* frame, __global const uint* masks,
-                              __global int* chunk_starts, __global int* counts) {
+/* The sum of `value` over the work-group (`lanes` work-items, a power of two), through `sums`, for every
+ * work-item; `sums` is free again when it returns. */
+inline int dc_group_sum(__local int* sums, int value, int lanes) {
+    const int lid = get_local_id(0);
+    sums[lid] = value;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int width = lanes / 2; width > 0; width >>= 1) {
+        if (lid < width) sums[lid] += sums[lid + width];
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    const int total = sums[0];
+    barrier(CLK_LOCAL_MEM_FENCE);
+    return total;
+}
+
+/* Per coarse tile, one work-group: where each chunk's entries start within the tile's list, and
+ * the list length. The chunks' popcounts are prefix-summed in local memory, DC_CHUNK_LANES at a
+ * time: one work-item per coarse tile walking every chunk was a chain of dependent loads. */
+__kernel __attribute__((reqd_work_group_size(DC_CHUNK_LANES, 1, 1)))
+void dc_coarse_count(__constant const DcFrame* frame, __global const uint* masks, __global int* chunk_starts,
+                     __global int* counts) {
+    __local int sums[DC_CHUNK_LANES];
+    const int chunks = dc_decal_chunks(frame);
+    const int c = get_group_id(0), lid = get_local_id(0);
+    if (c >= dc_coarse_tiles_x(frame) * dc_coarse_tiles_y(frame)) return; /* the whole group */
+    int base = 0;
+    for (int k0 = 0; k0 < chunks; k0 += DC_CHUNK_LANES) {
+        const int k = k0 + lid;
+        const int own = k < chunks ? (int)popcount(dc_mask_word(masks, c * chunks + k)) : 0;
+        sums[lid] = own;
+        barrier(CLK_LOCAL_MEM_FENCE);
+        for (int stride = 1; stride < DC_CHUNK_LANES; stride <<= 1) { /* inclusive scan (Hillis-Steele) */
+            const int add = lid >= stride ? sums[lid - stride] : 0;
+            barrier(CLK_LOCAL_MEM_FENCE);
+            sums[lid] += add;
+            barrier(CLK_LOCAL_MEM_FENCE);
+        }
+        if (k < chunks) chunk_starts[c * chunks + k] = base + sums[lid] - own;
+        base += sums[DC_CHUNK_LANES - 1];
+        barrier(CLK_LOCAL_MEM_FENCE); /* every work-item has read sums before the next block */
+    }
+    if (lid == 0) counts[c] = base;
+}
+
+/* The same, one work-item per coarse tile walking its chunks: for CPU devices, where work-group
+ * barriers cost more than the walk (the host picks, compositor.cpp). */
+__kernel void dc_coarse_count_serial(__constant const DcFrame* frame, __global const uint* masks,
+                                     __global int* chunk_starts, __global int* counts) {
     const int chunks = dc_decal_chunks(frame);
     const int c = get_global_id(0);
     if (c >= dc_coarse_tiles_x(frame) * dc_coarse_tiles_y(frame)) return;
@@ -310,7 +355,7 @@ inline bool dc_hull_misses(__global const DcDecal* d, const DcTileHull* h) {
     return false;
 }
 
-/* Level 2: one work-item per tile over its coarse tile's list. The count pass tests each entry
+/* Level 2: each tile against its coarse tile's list. The count pass tests each entry
  * and leaves one flag per (entry, tile of the coarse tile) in `listed`: the fill pass then reads
  * the flags instead of testing again. */
 inline size_t dc_listed_flag(__constant const DcFrame* frame, int entry, int tile) {
@@ -325,33 +370,78 @@ inline int dc_coarse_of_tile(__constant const DcFrame* frame, int tile) {
     return (ty / DC_COARSE_TILES) * dc_coarse_tiles_x(frame) + tx / DC_COARSE_TILES;
 }
 
-__kernel void dc_bin_count(__constant const DcFrame* frame, __global const DcDecal* decals,
-                           __global const DcDecalBounds* bounds, __global const float2* tile_depth,
-                           __global const int* coarse_offsets, __global const int* coarse_lists, int coarse_capacity,
-                           __global uchar* listed, __global int* counts) {
-    const int tile = get_global_id(0);
-    if (tile >= frame->tiles_x * frame->tiles_y) return;
+/* A tile's view depths with its apron's (dc_depth_apron); not empty only where the tile has a
+ * surface pixel (`surface`). */
+inline float2 dc_tile_range(__constant const DcFrame* frame, __global const float2* tile_depth, int tx, int ty,
+                            bool* surface) {
+    float2 range = tile_depth[ty * frame->tiles_x + tx];
+    *surface = range.x <= range.y; /* else no pixel to shade, and nothing listed */
+    if (!*surface) return range;
+    const int apron = dc_depth_apron(frame);
+    for (int ny = max(0, ty - apron); ny <= min(frame->tiles_y - 1, ty + apron); ++ny)
+        for (int nx = max(0, tx - apron); nx <= min(frame->tiles_x - 1, tx + apron); ++nx) {
+            const float2 t = tile_depth[ny * frame->tiles_x + nx];
+            range = (float2)(fmin(range.x, t.x), fmax(range.y, t.y));
+        }
+    return range;
+}
+
+/* Whether decal d of the coarse list reaches tile (tx, ty) of depth `range` and `hull`. */
+inline bool dc_tile_lists(__global const DcDecal* decals, __global const DcDecalBounds* bounds, int d, int tx,
+                          int ty, float2 range, const DcTileHull* hull) {
+    return dc_overlaps(bounds[d], tx, ty, tx, ty, range) &&
+           !(hull->valid && decals[d].rest_binding < 0 && dc_hull_misses(&decals[d], hull));
+}
+
+/* One work-group per tile, its DC_BIN_LANES work-items over the coarse list's entries (one
+ * work-item per tile walking the list was a chain of tests too short of work-items for a GPU). */
+__kernel __attribute__((reqd_work_group_size(DC_BIN_LANES, 1, 1)))
+void dc_bin_count(__constant const DcFrame* frame, __global const DcDecal* decals,
+                  __global const DcDecalBounds* bounds, __global const float2* tile_depth,
+                  __global const int* coarse_offsets, __global const int* coarse_lists, int coarse_capacity,
+                  __global uchar* listed, __global int* counts) {
+    __local DcTileHull shared_hull[1]; /* work-item 0's, for all */
+    __local int sums[DC_BIN_LANES];
+    const int tile = get_group_id(0), lid = get_local_id(0);
+    if (tile >= frame->tiles_x * frame->tiles_y) return; /* the whole group */
     const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x, c = dc_coarse_of_tile(frame, tile);
     /* an overflowed coarse list is read only up to its capacity: the frame runs again anyway */
     const int begin = coarse_offsets[c], end = min(coarse_offsets[c + 1], coarse_capacity);
-    float2 range = tile_depth[tile];
-    const bool surface = range.x <= range.y; /* else no pixel to shade, and nothing listed */
+    bool surface;
+    const float2 range = dc_tile_range(frame, tile_depth, tx, ty, &surface);
+    if (lid == 0) {
+        shared_hull[0].valid = 0;
+        if (surface && begin < end) shared_hull[0] = dc_tile_hull(frame, tx, ty, range);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    const DcTileHull hull = shared_hull[0];
+    int n = 0;
+    for (int k = begin + lid; k < end; k += DC_BIN_LANES) {
+        const bool in = surface && dc_tile_lists(decals, bounds, coarse_lists[k], tx, ty, range, &hull);
+        listed[dc_listed_flag(frame, k, tile)] = in ? 1 : 0;
+        n += in ? 1 : 0;
+    }
+    n = dc_group_sum(sums, n, DC_BIN_LANES);
+    if (lid == 0) counts[tile] = n;
+}
+
+/* The same, one work-item per tile walking the list: for CPU devices (as dc_coarse_count_serial). */
+__kernel void dc_bin_count_serial(__constant const DcFrame* frame, __global const DcDecal* decals,
+                                  __global const DcDecalBounds* bounds, __global const float2* tile_depth,
+                                  __global const int* coarse_offsets, __global const int* coarse_lists,
+                                  int coarse_capacity, __global uchar* listed, __global int* counts) {
+    const int tile = get_global_id(0);
+    if (tile >= frame->tiles_x * frame->tiles_y) return;
+    const int tx = tile % frame->tiles_x, ty = tile / frame->tiles_x, c = dc_coarse_of_tile(frame, tile);
+    const int begin = coarse_offsets[c], end = min(coarse_offsets[c + 1], coarse_capacity);
+    bool surface;
+    const float2 range = dc_tile_range(frame, tile_depth, tx, ty, &surface);
     DcTileHull hull;
     hull.valid = 0;
-    if (surface && begin < end) {
-        const int apron = dc_depth_apron(frame);
-        for (int ny = max(0, ty - apron); ny <= min(frame->tiles_y - 1, ty + apron); ++ny)
-            for (int nx = max(0, tx - apron); nx <= min(frame->tiles_x - 1, tx + apron); ++nx) {
-                const float2 t = tile_depth[ny * frame->tiles_x + nx];
-                range = (float2)(fmin(range.x, t.x), fmax(range.y, t.y));
-            }
-        hull = dc_tile_hull(frame, tx, ty, range);
-    }
+    if (surface && begin < end) hull = dc_tile_hull(frame, tx, ty, range);
     int n = 0;
     for (int k = begin; k < end; ++k) {
-        const int d = coarse_lists[k];
-        const bool in = surface && dc_overlaps(bounds[d], tx, ty, tx, ty, range) &&
-                        !(hull.valid && decals[d].rest_binding < 0 && dc_hull_misses(&decals[d], &hull));
+        const bool in = surface && dc_tile_lists(decals, bounds, coarse_lists[k], tx, ty, range, &hull);
         listed[dc_listed_flag(frame, k, tile)] = in ? 1 : 0;
         n += in ? 1 : 0;
     }

@@ -45,6 +45,11 @@ namespace decalcomp::cl_types {
 #define DC_DECALS_PER_MASK_WORD 64
 /* Work-items per decal that mark the coarse tiles it overlaps (dc_coarse_mark, binning.cl). */
 #define DC_MARK_LANES 32
+/* Work-group sizes of binning.cl's per-tile kernels: a coarse tile's chunks are prefix-summed
+ * DC_CHUNK_LANES at a time (dc_coarse_count), and a tile's coarse list is tested DC_BIN_LANES
+ * entries at a time (dc_bin_count). Both must be powers of two. */
+#define DC_CHUNK_LANES 64
+#define DC_BIN_LANES 32
 /* The prefix sums of tile counts run in one work-group of DC_SCAN_GROUP work-items (scan.cl). */
 #define DC_SCAN_GROUP 256
 

@@ -12,8 +12,13 @@
 
 namespace decalcomp {
 
+// Binning's per-tile kernels: a work-group per tile (GPUs) or a work-item per tile (CPUs, whose
+// work-group barriers cost more than the walk). Device: by the device's type.
+enum class TileKernels { Device, Groups, Serial };
+
 struct CompositeOptions {
-    bool binned = true;  // false: every pixel tests every decal (for tests and benchmarks)
+    bool binned = true;                              // false: every pixel tests every decal (for tests and benchmarks)
+    TileKernels tile_kernels = TileKernels::Device;  // the same lists either way (tests compare them)
 };
 
 struct CompositeStats {
@@ -33,9 +38,9 @@ struct CompositeStats {
 // What the binning produced for the last frame, for tests and `--stats`.
 struct BinningResult {
     int tiles_x = 0, tiles_y = 0;
-    std::vector<float> tile_depth;   // min, max planar depth per tile; min > max for empty tiles
-    std::vector<int> tile_offsets;   // tiles + 1 entries
-    std::vector<int> tile_decals;    // decal indices, per tile in scene order
+    std::vector<float> tile_depth;  // min, max planar depth per tile; min > max for empty tiles
+    std::vector<int> tile_offsets;  // tiles + 1 entries
+    std::vector<int> tile_decals;   // decal indices, per tile in scene order
 };
 
 // The attributes composite() may change for a scene: the albedo, and each material attribute

@@ -374,7 +374,10 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             if (!s.kernels) s.kernels.emplace(device_.program(full_shading));
             CompositorKernels& k = *s.kernels;
             if (binned) {
-                e_tiles = s.cpu
+                // per-tile kernels: work-groups on GPUs, a work-item per tile on CPUs (TileKernels)
+                const bool serial =
+                    options.tile_kernels == TileKernels::Device ? s.cpu : options.tile_kernels == TileKernels::Serial;
+                e_tiles = serial
                               ? k.tile_bounds_serial(cl::EnqueueArgs(queue, cl::NDRange(roundUp(tiles, kBinGroupSize))),
                                                      s.frame_buffer, depth, position, s.tile_depth)
                               : k.tile_bounds(cl::EnqueueArgs(queue,
@@ -396,17 +399,22 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 e_cmask =
                     k.coarse_mark(cl::EnqueueArgs(queue, cl::NDRange(roundUp(decals * DC_MARK_LANES, kBinGroupSize))),
                                   s.frame_buffer, s.bounds, s.coarse_depth, s.chunk_masks);
-                e_ccount = k.coarse_count(cl::EnqueueArgs(queue, coarse_range), s.frame_buffer, s.chunk_masks,
-                                          s.chunk_starts, s.coarse_counts);
+                e_ccount = serial ? k.coarse_count_serial(cl::EnqueueArgs(queue, coarse_range), s.frame_buffer,
+                                                          s.chunk_masks, s.chunk_starts, s.coarse_counts)
+                                  : k.coarse_count(cl::EnqueueArgs(queue, cl::NDRange(coarse * DC_CHUNK_LANES),
+                                                                   cl::NDRange(DC_CHUNK_LANES)),
+                                                   s.frame_buffer, s.chunk_masks, s.chunk_starts, s.coarse_counts);
                 e_cscan = k.scan(cl::EnqueueArgs(queue, scan_range, scan_range), s.coarse_counts, cl_int(coarse),
                                  s.coarse_offsets);
                 e_cfill = k.coarse_fill(cl::EnqueueArgs(queue, pair_range), s.frame_buffer, s.chunk_masks,
                                         s.chunk_starts, s.coarse_offsets, s.coarse_lists, cl_int(s.coarse_capacity));
                 // Level 2: each tile against its coarse tile's list.
                 const cl::NDRange tile_range(roundUp(tiles, kBinGroupSize));
-                e_count = k.bin_count(cl::EnqueueArgs(queue, tile_range), s.frame_buffer, s.decal_buffer, s.bounds,
-                                      s.tile_depth, s.coarse_offsets, s.coarse_lists, cl_int(s.coarse_capacity),
-                                      s.listed, s.tile_counts);
+                e_count = (serial ? k.bin_count_serial : k.bin_count)(
+                    serial ? cl::EnqueueArgs(queue, tile_range)
+                           : cl::EnqueueArgs(queue, cl::NDRange(tiles * DC_BIN_LANES), cl::NDRange(DC_BIN_LANES)),
+                    s.frame_buffer, s.decal_buffer, s.bounds, s.tile_depth, s.coarse_offsets, s.coarse_lists,
+                    cl_int(s.coarse_capacity), s.listed, s.tile_counts);
                 e_scan = k.scan(cl::EnqueueArgs(queue, scan_range, scan_range), s.tile_counts, cl_int(tiles),
                                 s.tile_offsets);
                 e_fill = k.bin_fill(cl::EnqueueArgs(queue, tile_range), s.frame_buffer, s.coarse_offsets,

@@ -2,7 +2,6 @@
 // Typed launches of the compositor's kernels: each functor's argument list is the kernel's
 // signature (kernels/*.cl), so a call with a missing or misplaced argument does not compile.
 #include <CL/opencl.hpp>
-
 #include <array>
 #include <functional>
 #include <optional>
@@ -24,13 +23,14 @@ struct CompositorKernels {
     cl::KernelFunctor<Buffer, Buffer, Buffer> coarse_depth;
     // frame, decal bounds, coarse depth, masks
     cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> coarse_mark;
-    // frame, masks, chunk starts, coarse counts
-    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> coarse_count;
+    // frame, masks, chunk starts, coarse counts: a work-group or a work-item per coarse tile
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> coarse_count, coarse_count_serial;
     // frame, masks, chunk starts, coarse offsets, coarse lists, coarse capacity
     cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, cl_int> coarse_fill;
     // frame, decals, decal bounds, tile depth, coarse offsets, coarse lists, coarse capacity, listed
-    // flags, tile counts
-    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer, Buffer> bin_count;
+    // flags, tile counts: a work-group or a work-item per tile
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, Buffer, Buffer> bin_count,
+        bin_count_serial;
     // frame, coarse offsets, coarse lists, coarse capacity, listed flags, tile offsets, tile lists,
     // list capacity
     cl::KernelFunctor<Buffer, Buffer, Buffer, cl_int, Buffer, Buffer, Buffer, cl_int> bin_fill;
@@ -48,9 +48,9 @@ struct CompositorKernels {
     // decals, texture table, texels,
     // tile offsets, tile lists, decal bounds, binned, list capacity, mask weights, occlusion maps,
     // beauty, light, rest points, rest frames
-    using Shade = cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
-                                    Buffer, Buffer, Buffer, Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer,
-                                    Buffer, Buffer>;
+    using Shade =
+        cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
+                          Buffer, Buffer, Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer>;
     // The shading kernel of a variant (DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT | DC_VARIANT_POINT
     // bits); those without DC_VARIANT_POINT are taken from `full` (ComputeDevice::program(true),
     // called only then) the first time one is asked for.
