@@ -7,13 +7,14 @@
 # it, so take data/ out of the index for the call and put it back after (the files stay on disk):
 #   git rm -r -q --cached data && echo /data/ >>.git/info/exclude      # before
 #   git reset -q && sed -i '\|^/data/$|d' .git/info/exclude            # after
-# The first run builds the kernels: minutes on NVIDIA (the point-sampled program first; the filter's
-# full program only in the last step). Results land in $OUT (the device tool's output folder) as
-# three files, since the tool brings back only a few: machine.txt, run.log (every step's report)
-# and results.csv (every step's CSV rows, each led by the step's name). Each step appends as it
-# finishes, so a call that runs out of time still brings back the steps before.
-# The NVIDIA compiler's cache goes to .gpu/nvc and comes back as $OUT/nvc.tgz: unpacked into .gpu/ on
-# the development machine, the next call carries it and skips the cold builds (minutes each).
+# The first run builds the kernels on NVIDIA: the point-sampled program first (about 40 s on an
+# H100), the filter's full program only in the last step. Results land in $OUT (the device tool's
+# output folder) as machine.txt, run.log (every step's report) and results.csv (every step's CSV
+# rows, each led by the step's name); each step appends as it finishes, so a call that runs out of
+# time still brings back the steps before. The tool brings back at most eight files a call.
+# The NVIDIA compiler's cache goes to .gpu/nvc and comes back as $OUT/nvc.tgz: unpacked into .gpu/
+# on the development machine, the next call carries it and skips the cold builds (the cache grows
+# past the 64 MiB carry in a few calls: keep only the newest).
 set -u
 export CUDA_CACHE_PATH=${CUDA_CACHE_PATH:-$PWD/.gpu/nvc} CUDA_CACHE_MAXSIZE=${CUDA_CACHE_MAXSIZE:-2147483647}
 E=${E:-sh .gpu/opencl-env.sh}
@@ -38,9 +39,9 @@ save_cache() {
     [ -d "$CUDA_CACHE_PATH" ] && tar czf "$OUT/nvc.tgz" -C "$(dirname "$CUDA_CACHE_PATH")" "$(basename "$CUDA_CACHE_PATH")"
 }
 
-# SECTIONS picks what runs and in which order (default: issue9 beauty filter); a call that may
-# run out of time can take some and leave the rest to the next.
-SECTIONS=${SECTIONS:-issue9 beauty filter}
+# SECTIONS picks what runs and in which order (default: tilekernels issue9 beauty filter); a call
+# that may run out of time can take some and leave the rest to the next.
+SECTIONS=${SECTIONS:-tilekernels issue9 beauty filter}
 
 # warm-up: builds and caches the point-sampled program
 step warmup --quick
@@ -52,6 +53,19 @@ step issue9 --repeat 10 --sizes 1920x1080,3840x2160 --counts 1,1024,4096 --modes
 for edge in 3 6; do
     step same-coverage-$edge --repeat 20 --sizes 1920x1080,3840x2160 --counts 1,4096 --modes binned --no-transfers \
         --same-coverage $edge
+done
+}
+
+# Binning's per-tile kernels on the GPU: work-groups per tile (the default there) against a
+# work-item per tile, same binary and program, alternated twice
+section_tilekernels() {
+for round in 1 2; do
+    for kind in serial groups; do
+        step "tiles-$kind-$round" --repeat 20 --sizes 1920x1080,3840x2160 --counts 1,4096 --modes binned \
+            --no-transfers --tile-kernels $kind
+        step "tiles-$kind-coverage-$round" --repeat 20 --sizes 1920x1080,3840x2160 --counts 1,4096 --modes binned \
+            --no-transfers --same-coverage 3 --tile-kernels $kind
+    done
 done
 }
 

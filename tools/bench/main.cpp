@@ -83,12 +83,13 @@ struct Options {
     double same_coverage = 0;  // > 0: each count's decals share the area of one decal of this edge
     int texture_count = 4, texture_size = 32;
     std::uint32_t seed = 1;
-    std::string modes = "both";         // both, binned, unbinned
-    std::string kind = "box";           // decal kind of every decal
-    bool materials = false;             // full texture sets: normal maps and ORM into normal/roughness/metallic
-    bool transfers = true;              // measure the transfer and bandwidth floors per size
-    bool beauty = false;                // also rebuild a beauty from two light terms (synth_light.hpp)
-    std::string pixel_filter = "none";  // decals integrated over this pixel filter (pixel_filter.hpp)
+    std::string modes = "both";           // both, binned, unbinned
+    std::string kind = "box";             // decal kind of every decal
+    bool materials = false;               // full texture sets: normal maps and ORM into normal/roughness/metallic
+    bool transfers = true;                // measure the transfer and bandwidth floors per size
+    bool beauty = false;                  // also rebuild a beauty from two light terms (synth_light.hpp)
+    std::string pixel_filter = "none";    // decals integrated over this pixel filter (pixel_filter.hpp)
+    std::string tile_kernels = "device";  // binning's per-tile kernels (CompositeOptions::tile_kernels)
 };
 
 // The beauty update's planes for a frame: the synthetic sun and sky, divided (Blender-style).
@@ -104,13 +105,17 @@ BeautyPlanes benchBeautyPlanes(const GBuffer& full) {
     return planes;
 }
 
+TileKernels tileKernels(const std::string& name) {
+    return name == "groups" ? TileKernels::Groups : name == "serial" ? TileKernels::Serial : TileKernels::Device;
+}
+
 Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camera, int decals, bool binned, int repeat,
-               const BeautyPlanes* beauty) {
+               const BeautyPlanes* beauty, TileKernels tile_kernels) {
     Result r;
     r.size = {frame.width, frame.height};
     r.decals = decals;
     r.binned = binned;
-    const CompositeOptions options{binned};
+    const CompositeOptions options{binned, tile_kernels};
     const Plane pristine = frame.planes.at(Attribute::Albedo);
     GBuffer work = frame;
     std::optional<BeautyPlanes> work_beauty;
@@ -322,6 +327,9 @@ int main(int argc, char** argv) {
     app.add_option("--pixel-filter", opt.pixel_filter,
                    "integrate decals over this pixel filter (TYPE:WIDTH, e.g. blackman-harris:3; default none); the "
                    "frames then keep their normal pass, as renders with a filter have one");
+    app.add_option("--tile-kernels", opt.tile_kernels,
+                   "binning's per-tile kernels: device (work-groups on GPUs, work-items on CPUs), groups or serial")
+        ->check(CLI::IsMember({"device", "groups", "serial"}));
     bool texture_space = false;
     app.add_flag("--texture-space", texture_space,
                  "instead: a texture-space box decal on a 102,400-triangle tube against the same box in the world "
@@ -449,7 +457,8 @@ int main(int argc, char** argv) {
                     }
                     const auto t0 = std::chrono::steady_clock::now();
                     results.push_back(runCase(compositor, frame, camera, count, binned, opt.repeat,
-                                              beauty_planes ? &*beauty_planes : nullptr));
+                                              beauty_planes ? &*beauty_planes : nullptr,
+                                              tileKernels(opt.tile_kernels)));
                     fmt::print(info, " kernel {} ms ({:.1f} s)\n", ms(results.back().kernel_ms),
                                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
                     std::fflush(info);
