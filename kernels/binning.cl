@@ -127,9 +127,9 @@ __kernel void dc_decal_bounds(__constant const DcFrame* frame, __global const Dc
     bounds[id] = b;
 }
 
-/* Binning runs at two levels, both keeping decal order: coarse tiles (DC_COARSE_TILES x
- * DC_COARSE_TILES tiles, shared_types.h) test every decal; then each tile tests only its coarse
- * tile's list. Tile ranges are inclusive and in tile units at both levels. */
+/* Binning runs at two levels, both keeping decal order: each decal marks the coarse tiles
+ * (DC_COARSE_TILES x DC_COARSE_TILES tiles, shared_types.h) it overlaps; then each tile tests only
+ * its coarse tile's list. Tile ranges are inclusive and in tile units at both levels. */
 #if DC_DECALS_PER_MASK_WORD != 64
 #error "DC_DECALS_PER_MASK_WORD must be the bit count of the ulong mask words"
 #endif

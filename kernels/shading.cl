@@ -279,9 +279,9 @@ DC_INLINE DcSurface dc_point_decal(__constant const DcFrame* frame, __global con
                           variant);
 }
 
-/* A pixel of a tile some decal is listed on, the list narrowed to [begin, end): composites the
- * list into the surface planes and returns the beauty's change (dc_beauty_change; 0 where nothing
- * changed or without a beauty). */
+/* A pixel whose list [begin, end) is not empty (its tile's, binned; every decal, unbinned):
+ * composites the list into the surface planes and returns the beauty's change (dc_beauty_change; 0
+ * where nothing changed or without a beauty). */
 inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global const float* depth_plane,
                                     __global const float4* position_plane, __global float4* surface0,
                                     __global float4* surface1, __global float4* surface2,
@@ -292,7 +292,9 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                                     __global const float* mask_weights, __global const uint* occlusion_maps,
                                     __global float* light, __global const float4* rest_points,
                                     __global const float4* rest_frames, const int variant, int x, int y) {
+#ifndef DC_POINT_SHADING_ONLY
     const bool point_only = (variant & DC_VARIANT_POINT) != 0;
+#endif
     const size_t i = (size_t)y * frame->width + x;
     const int attributes = frame->attributes;
     const bool has_group1 = (attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
@@ -344,7 +346,9 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
         int applied = 0;
 #ifdef DC_POINT_SHADING_ONLY
         /* The point program (device.cpp) holds the point kernels alone: none of the filter's or the
-         * rest pose's code reaches its compiler, whose cold build that code slowed down. */
+         * rest pose's code reaches its compiler, whose cold build that code slowed down (their
+         * planes stay arguments, so both programs' kernels take the same ones). */
+        (void)original0, (void)original1, (void)rest_points, (void)rest_frames;
         if (1) {
 #else
         DcTaps taps = !point_only && frame->filter_taps > 0 && has_normal
@@ -437,8 +441,9 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
     const int x = get_global_id(0), y = get_global_id(1);
     if (x >= frame->width || y >= frame->height) return;
     const size_t i = (size_t)y * frame->width + x;
-    /* The planes are changed in place: pixels no decal reaches (background among them) are
-     * neither read nor written, so they keep their samples bit for bit. */
+    /* The surface planes are changed in place: pixels no decal reaches (background among them)
+     * are neither read nor written, so they keep their samples bit for bit. (The beauty's change is
+     * written, 0 there, at every pixel of a listed tile.) */
     int begin = 0, end = frame->decal_count;
     if (binned) {
         const int tile = (y / DC_TILE_SIZE) * frame->tiles_x + x / DC_TILE_SIZE;

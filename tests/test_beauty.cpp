@@ -12,8 +12,8 @@
 #include "decalcomp/synth.hpp"
 #include "decalcomp/synth_antialias.hpp"
 #include "decalcomp/synth_light.hpp"
-#include "support/random_scenes.hpp"
 #include "support/exr_test_io.hpp"
+#include "support/random_scenes.hpp"
 #include "support/test_support.hpp"
 
 namespace decalcomp {
@@ -105,7 +105,8 @@ TEST(BeautyTruth, EdgePixelsGetNoWorseThanUntouched) {
     const ExrImage in = readExr(test::dataPath("blender-beauty-direct/gbuffer.exr"));
     const ExrImage out = readExr(dir.file("out.exr"));
     const ExrImage truth = readExr(test::dataPath("blender-beauty-direct/truth.exr"));
-    const std::vector<float> depth = floatSamples(in, "ViewLayer.Depth.Z"), mask = floatSamples(truth, "ViewLayer.DecalMask.X");
+    const std::vector<float> depth = floatSamples(in, "ViewLayer.Depth.Z"),
+                             mask = floatSamples(truth, "ViewLayer.DecalMask.X");
     const int w = in.parts[0].width, h = in.parts[0].height;
     double rebuilt = 0, untouched = 0;
     std::size_t edges = 0;
@@ -197,9 +198,9 @@ TEST_P(BeautyAnalytic, ReusedCompositorAddsOnlyThisFramesChanges) {
     GBuffer second = frame;
     BeautyPlanes planes = generatorPlanes(light, frame.pixelCount());
     compositor.composite(second, camera, {GetParam()}, &planes);
-    const std::size_t changed = expectExactBeauty(second, frame, light, planes);
+    const std::size_t changed = expectExactBeauty(second, frame, light, planes);  // albedo samples
     EXPECT_GT(changed, 0u);
-    EXPECT_LT(changed, 3 * frame.pixelCount() / 4);
+    EXPECT_LT(changed, 3 * frame.pixelCount() / 4) << "the second frame's decals reach under a quarter of it";
 }
 
 // The kernel against the scalar reference, light divided (Blender) and multiplied (Arnold):
@@ -234,7 +235,8 @@ TEST_P(BeautyKernel, MatchesTheReference) {
         ASSERT_NEAR(planes.beauty.samples[k], expected.beauty.samples[k], 2e-6) << "sample " << k;
     for (std::size_t t = 0; t < planes.light.size(); ++t)
         for (std::size_t k = 0; k < expected.light[t].samples.size(); ++k)
-            ASSERT_NEAR(planes.light[t].samples[k], expected.light[t].samples[k], 2e-6) << "term " << t << " sample " << k;
+            ASSERT_NEAR(planes.light[t].samples[k], expected.light[t].samples[k], 2e-6)
+                << "term " << t << " sample " << k;
 }
 
 INSTANTIATE_TEST_SUITE_P(Light, BeautyKernel, ::testing::Values(true, false),
@@ -283,8 +285,8 @@ TEST(BeautyKernel, MixedPixelsTakeTheLeastLight) {
 TEST(BeautyControl, MissingPassesWarnOrFail) {
     test::ScratchDir dir;
     const auto run = [&](const std::string& mode) {
-        return test::runCli("composite " + test::shellQuote(test::dataPath("blender-kinds/gbuffer.exr")) + " --decals " +
-                            test::shellQuote(test::dataPath("blender-kinds/scene.json")) + " --camera " +
+        return test::runCli("composite " + test::shellQuote(test::dataPath("blender-kinds/gbuffer.exr")) +
+                            " --decals " + test::shellQuote(test::dataPath("blender-kinds/scene.json")) + " --camera " +
                             test::shellQuote(test::dataPath("blender-kinds/camera.json")) + " --device cpu -q -o " +
                             test::shellQuote(dir.file("out.exr")) + " --beauty " + mode);
     };
@@ -306,16 +308,18 @@ TEST(BeautyControl, MissingPassesWarnOrFail) {
 TEST(BeautyControl, InfoShowsTheModelAndPasses) {
     const auto run = test::runCli("info " + test::shellQuote(test::dataPath("blender-beauty/gbuffer.exr")));
     ASSERT_EQ(run.exit_code, 0) << run.output;
-    for (const char* needle : {"beauty:", "model: blender (divided light", "beauty: ViewLayer.Combined.{R,G,B}",
-                               "albedo lobe: direct ViewLayer.DiffDir.{R,G,B}, indirect ViewLayer.DiffInd.{R,G,B}",
-                               "rebuild: yes"})
+    for (const char* needle :
+         {"beauty:", "model: blender (divided light", "beauty: ViewLayer.Combined.{R,G,B}",
+          "albedo lobe: direct ViewLayer.DiffDir.{R,G,B}, indirect ViewLayer.DiffInd.{R,G,B}", "rebuild: yes"})
         EXPECT_NE(run.output.find(needle), std::string::npos) << needle << "\n" << run.output;
 }
 
 // The preview gains a third row: the beauty before | after.
 TEST(BeautyControl, PreviewShowsTheBeautyRow) {
     test::ScratchDir dir;
-    ASSERT_EQ(compositeBeauty("blender-beauty-direct", dir.file("out.exr"), "-q --preview " + dir.file("p.png")).exit_code, 0);
+    ASSERT_EQ(
+        compositeBeauty("blender-beauty-direct", dir.file("out.exr"), "-q --preview " + dir.file("p.png")).exit_code,
+        0);
     const test::Png png = test::readPng(dir.file("p.png"));
     EXPECT_EQ(png.width, 2 * 320 + 4);
     EXPECT_EQ(png.height, 3 * 240 + 2 * 4);

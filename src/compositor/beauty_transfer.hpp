@@ -1,7 +1,8 @@
 #pragma once
-// The beauty and the albedo lobe's light planes as the shading kernel reads and writes them:
-// packed RGB, three floats per pixel as the planes hold them, terms back to back. No unused fourth
-// float: the update is memory traffic, and the beauty's own planes upload without a repack.
+// The albedo lobe's light planes as the shading kernel reads (and, multiplied, rewrites) them, and
+// the beauty's changes it writes: packed RGB, three floats per pixel as the planes hold them, terms
+// back to back. No unused fourth float: the update is memory traffic, and the light planes upload
+// without a repack.
 #include <cstddef>
 
 #include "decalcomp/beauty.hpp"
