@@ -79,7 +79,9 @@ inline float3 dc_beauty_change(__constant const DcFrame* f, size_t i, size_t pix
     float3 add = f->beauty_emission ? emission_delta : (float3)(0.0f);
     if (all(albedo_after == albedo_before) && relight == 1.0f) return add;
     const int terms = f->light_terms;
-    const float3 delta = albedo_after - albedo_before, ratio = dc_colour_ratio(albedo_before, albedo_after);
+    /* the colour's ratio (three divisions) only for multiplied light, which alone uses it */
+    const float3 delta = albedo_after - albedo_before;
+    const float3 ratio = f->light_divided ? (float3)(1.0f) : dc_colour_ratio(albedo_before, albedo_after);
     for (int t = 0; t < terms; ++t) {
         const size_t term = (size_t)t * pixels + i;
         const float3 own = t == 0 ? l0 : t == 1 ? l1 : vload3(term, light);
