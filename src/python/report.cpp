@@ -13,6 +13,10 @@ py::dict statsDict(const CompositeStats& s) {
     d["kernels_ms"] = s.totalKernelMs();
     d["tile_bounds_ms"] = s.tile_bounds_ms;
     d["binning_ms"] = s.binning_ms;
+    d["bin_coarse_ms"] = s.bin_coarse_ms;  // binning_ms in its steps
+    d["bin_count_ms"] = s.bin_count_ms;
+    d["bin_scan_ms"] = s.bin_scan_ms;
+    d["bin_fill_ms"] = s.bin_fill_ms;
     d["shading_ms"] = s.shading_ms;
     d["occlusion_ms"] = s.occlusion_ms;
     d["rest_ms"] = s.rest_ms;

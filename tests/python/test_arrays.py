@@ -73,7 +73,10 @@ def test_constant_box_decal_on_a_flat_plane_is_analytic():
     row = albedo[HEIGHT // 2]
     np.testing.assert_allclose(row[inside], np.tile([0.2, 0.4, 0.8], (inside.sum(), 1)), rtol=0, atol=1e-6)
     np.testing.assert_array_equal(row[outside], np.full((outside.sum(), 3), 0.5, np.float32))
-    assert compositor.last_stats["decals"] == 1
+    stats = compositor.last_stats
+    assert stats["decals"] == 1
+    steps = ("bin_coarse_ms", "bin_count_ms", "bin_scan_ms", "bin_fill_ms")
+    assert sum(stats[k] for k in steps) == pytest.approx(stats["binning_ms"])
 
 
 def test_id_mask_limits_the_decal_to_one_object():
