@@ -12,8 +12,10 @@
 
 namespace decalcomp {
 
-// Binning's per-tile kernels: a work-group per tile (GPUs) or a work-item per tile (CPUs, whose
-// work-group barriers cost more than the walk). Device: by the device's type.
+// Binning's per-tile kernels (tile bounds, coarse counts, tile tests): a work-group per tile, or a
+// work-item per tile (CPUs, whose work-group barriers cost more than the walk). Device: what was
+// measured fastest on the device's type; today the grouped tile bounds on GPUs and every other
+// kernel a work-item per tile (the grouped counts and tests are not yet measured on a GPU).
 enum class TileKernels { Device, Groups, Serial };
 
 struct CompositeOptions {

@@ -374,10 +374,13 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             if (!s.kernels) s.kernels.emplace(device_.program(full_shading));
             CompositorKernels& k = *s.kernels;
             if (binned) {
-                // per-tile kernels: work-groups on GPUs, a work-item per tile on CPUs (TileKernels)
-                const bool serial =
-                    options.tile_kernels == TileKernels::Device ? s.cpu : options.tile_kernels == TileKernels::Serial;
-                e_tiles = serial
+                // Per-tile kernels (TileKernels). By the device: the tile bounds a work-group per tile on
+                // GPUs, a work-item per tile on CPUs; the coarse counts and tile tests a work-item per
+                // tile everywhere until their grouped forms are measured on a GPU (docs/decisions.md).
+                const TileKernels kind = options.tile_kernels;
+                const bool serial_bounds = kind == TileKernels::Device ? s.cpu : kind == TileKernels::Serial;
+                const bool serial = kind != TileKernels::Groups;
+                e_tiles = serial_bounds
                               ? k.tile_bounds_serial(cl::EnqueueArgs(queue, cl::NDRange(roundUp(tiles, kBinGroupSize))),
                                                      s.frame_buffer, depth, position, s.tile_depth)
                               : k.tile_bounds(cl::EnqueueArgs(queue,
