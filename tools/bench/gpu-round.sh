@@ -56,11 +56,12 @@ for edge in 3 6; do
 done
 }
 
-# Binning's per-tile kernels on the GPU: work-groups per tile (the default there) against a
-# work-item per tile, same binary and program, alternated twice
+# Binning's coarse counts and tile tests on the GPU: a work-group per tile (--tile-kernels groups)
+# against the default, a work-item per tile (both with the grouped tile bounds); same binary and
+# program, alternated twice
 section_tilekernels() {
 for round in 1 2; do
-    for kind in serial groups; do
+    for kind in device groups; do
         step "tiles-$kind-$round" --repeat 20 --sizes 1920x1080,3840x2160 --counts 1,4096 --modes binned \
             --no-transfers --tile-kernels $kind
         step "tiles-$kind-coverage-$round" --repeat 20 --sizes 1920x1080,3840x2160 --counts 1,4096 --modes binned \
