@@ -3,6 +3,7 @@
 #include "shared_types.h"
 #include "matrix.h"
 #include "pixel_filter.h"
+#include "work_group.h"
 
 /* Relative and absolute slack on depth ranges, for float rounding in both sides of the test. */
 #define DC_DEPTH_SLACK_REL 1e-4f
@@ -207,21 +208,6 @@ __kernel void dc_coarse_mark(__constant const DcFrame* frame, __global const DcD
     }
 }
 
-/* The sum of `value` over the work-group (`lanes` work-items, a power of two), through `sums`, for every
- * work-item; `sums` is free again when it returns. */
-inline int dc_group_sum(__local int* sums, int value, int lanes) {
-    const int lid = get_local_id(0);
-    sums[lid] = value;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (int width = lanes / 2; width > 0; width >>= 1) {
-        if (lid < width) sums[lid] += sums[lid + width];
-        barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    const int total = sums[0];
-    barrier(CLK_LOCAL_MEM_FENCE);
-    return total;
-}
-
 /* Per coarse tile, one work-group: where each chunk's entries start within the tile's list, and
  * the list length. The chunks' popcounts are prefix-summed in local memory, DC_CHUNK_LANES at a
  * time: one work-item per coarse tile walking every chunk was a chain of dependent loads. */
@@ -236,17 +222,10 @@ void dc_coarse_count(__constant const DcFrame* frame, __global const uint* masks
     for (int k0 = 0; k0 < chunks; k0 += DC_CHUNK_LANES) {
         const int k = k0 + lid;
         const int own = k < chunks ? (int)popcount(dc_mask_word(masks, c * chunks + k)) : 0;
-        sums[lid] = own;
-        barrier(CLK_LOCAL_MEM_FENCE);
-        for (int stride = 1; stride < DC_CHUNK_LANES; stride <<= 1) { /* inclusive scan (Hillis-Steele) */
-            const int add = lid >= stride ? sums[lid - stride] : 0;
-            barrier(CLK_LOCAL_MEM_FENCE);
-            sums[lid] += add;
-            barrier(CLK_LOCAL_MEM_FENCE);
-        }
-        if (k < chunks) chunk_starts[c * chunks + k] = base + sums[lid] - own;
-        base += sums[DC_CHUNK_LANES - 1];
-        barrier(CLK_LOCAL_MEM_FENCE); /* every work-item has read sums before the next block */
+        int block;
+        const int inclusive = dc_group_scan(sums, own, DC_CHUNK_LANES, &block);
+        if (k < chunks) chunk_starts[c * chunks + k] = base + inclusive - own;
+        base += block;
     }
     if (lid == 0) counts[c] = base;
 }
@@ -421,8 +400,9 @@ void dc_bin_count(__constant const DcFrame* frame, __global const DcDecal* decal
         listed[dc_listed_flag(frame, k, tile)] = in ? 1 : 0;
         n += in ? 1 : 0;
     }
-    n = dc_group_sum(sums, n, DC_BIN_LANES);
-    if (lid == 0) counts[tile] = n;
+    int listed_here;
+    dc_group_scan(sums, n, DC_BIN_LANES, &listed_here);
+    if (lid == 0) counts[tile] = listed_here;
 }
 
 /* The same, one work-item per tile walking the list: for CPU devices (as dc_coarse_count_serial). */

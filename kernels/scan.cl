@@ -3,6 +3,7 @@
  * work-item sums a contiguous run, the runs' sums are scanned in local memory (Hillis-Steele),
  * then each work-item writes its run's offsets. Lists are at most a few hundred thousand tiles. */
 #include "shared_types.h"
+#include "work_group.h"
 
 __kernel __attribute__((reqd_work_group_size(DC_SCAN_GROUP, 1, 1)))
 void dc_scan(__global const int* counts, int n, __global int* offsets) {
@@ -12,18 +13,11 @@ void dc_scan(__global const int* counts, int n, __global int* offsets) {
     const int first = min(n, lid * run), last = min(n, first + run);
     int sum = 0;
     for (int i = first; i < last; ++i) sum += counts[i];
-    sums[lid] = sum;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (int stride = 1; stride < DC_SCAN_GROUP; stride <<= 1) {
-        const int add = lid >= stride ? sums[lid - stride] : 0;
-        barrier(CLK_LOCAL_MEM_FENCE);
-        sums[lid] += add;
-        barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    int next = lid == 0 ? 0 : sums[lid - 1];
+    int total;
+    int next = dc_group_scan(sums, sum, DC_SCAN_GROUP, &total) - sum; /* the runs before this one */
     for (int i = first; i < last; ++i) {
         offsets[i] = next;
         next += counts[i];
     }
-    if (lid == DC_SCAN_GROUP - 1) offsets[n] = sums[lid];
+    if (lid == DC_SCAN_GROUP - 1) offsets[n] = total;
 }

@@ -47,7 +47,7 @@ namespace decalcomp::cl_types {
 #define DC_MARK_LANES 32
 /* Work-group sizes of binning.cl's per-tile kernels: a coarse tile's chunks are prefix-summed
  * DC_CHUNK_LANES at a time (dc_coarse_count), and a tile's coarse list is tested DC_BIN_LANES
- * entries at a time (dc_bin_count). Both must be powers of two. */
+ * entries at a time (dc_bin_count). */
 #define DC_CHUNK_LANES 64
 #define DC_BIN_LANES 32
 /* The prefix sums of tile counts run in one work-group of DC_SCAN_GROUP work-items (scan.cl). */

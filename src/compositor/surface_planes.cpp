@@ -17,18 +17,12 @@ struct Slot {
 
 Slot slotOf(DecalTarget target) {
     switch (target) {
-        case DecalTarget::Albedo:
-            return {0, 0};
-        case DecalTarget::Roughness:
-            return {0, 3};
-        case DecalTarget::Normal:
-            return {1, 0};
-        case DecalTarget::Metallic:
-            return {1, 3};
-        case DecalTarget::Emission:
-            return {2, 0};
-        case DecalTarget::AmbientOcclusion:
-            return {2, 3};
+        case DecalTarget::Albedo: return {0, 0};
+        case DecalTarget::Roughness: return {0, 3};
+        case DecalTarget::Normal: return {1, 0};
+        case DecalTarget::Metallic: return {1, 3};
+        case DecalTarget::Emission: return {2, 0};
+        case DecalTarget::AmbientOcclusion: return {2, 3};
     }
     return {0, 0};
 }
@@ -53,18 +47,12 @@ glm::vec3 storedNormal(const Plane& plane, std::size_t pixel, int copy) {
 
 Attribute targetAttribute(DecalTarget target) {
     switch (target) {
-        case DecalTarget::Albedo:
-            return Attribute::Albedo;
-        case DecalTarget::Normal:
-            return Attribute::Normal;
-        case DecalTarget::Roughness:
-            return Attribute::Roughness;
-        case DecalTarget::Metallic:
-            return Attribute::Metallic;
-        case DecalTarget::AmbientOcclusion:
-            return Attribute::AmbientOcclusion;
-        case DecalTarget::Emission:
-            return Attribute::Emission;
+        case DecalTarget::Albedo: return Attribute::Albedo;
+        case DecalTarget::Normal: return Attribute::Normal;
+        case DecalTarget::Roughness: return Attribute::Roughness;
+        case DecalTarget::Metallic: return Attribute::Metallic;
+        case DecalTarget::AmbientOcclusion: return Attribute::AmbientOcclusion;
+        case DecalTarget::Emission: return Attribute::Emission;
     }
     return Attribute::Albedo;
 }
@@ -73,8 +61,8 @@ SurfaceLayout surfaceLayout(const GBuffer& frame, const std::array<bool, kDecalT
     SurfaceLayout layout;
     for (int t = 0; t < kDecalTargets; ++t) {
         const auto target = DecalTarget(t);
-        const bool wanted =
-            target == DecalTarget::Albedo || targets[std::size_t(t)] || (target == DecalTarget::Normal && with_normals);
+        const bool wanted = target == DecalTarget::Albedo || targets[std::size_t(t)] ||
+                            (target == DecalTarget::Normal && with_normals);
         if (!wanted || !frame.has(targetAttribute(target))) continue;
         layout.attributes |= 1 << t;
         layout.used[std::size_t(slotOf(target).group)] = true;
@@ -124,8 +112,8 @@ bool groupWrittenBack(const SurfaceLayout& layout, const std::array<bool, kDecal
     return false;
 }
 
-void unpackSurfaceGroup(GBuffer& frame, const Camera& camera, const SurfaceLayout& layout, int group, PixelRange range,
-                        const float* result, const std::array<bool, kDecalTargets>& targets) {
+void unpackSurfaceGroup(GBuffer& frame, const Camera& camera, const SurfaceLayout& layout, int group,
+                        PixelRange range, const float* result, const std::array<bool, kDecalTargets>& targets) {
     const auto first = std::ptrdiff_t(range.first), last = std::ptrdiff_t(range.last);
     const NormalCodec normals(frame.normal_encoding, camera);
     for (int t = 0; t < kDecalTargets; ++t) {
