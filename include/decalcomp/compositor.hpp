@@ -14,8 +14,8 @@ namespace decalcomp {
 
 // Binning's per-tile kernels (tile bounds, coarse counts, tile tests): a work-group per tile, or a
 // work-item per tile (CPUs, whose work-group barriers cost more than the walk). Device: what was
-// measured fastest on the device's type; today the grouped tile bounds on GPUs and every other
-// kernel a work-item per tile (the grouped counts and tests are not yet measured on a GPU).
+// measured fastest on the device's type: a work-item per tile on CPUs; on GPUs the grouped coarse
+// counts, and the grouped tile bounds and tests on frames with few tiles per compute unit.
 enum class TileKernels { Device, Groups, Serial };
 
 struct CompositeOptions {

@@ -26,6 +26,12 @@ namespace decalcomp {
 namespace {
 
 constexpr int kBinGroupSize = 64;  // work-items per group in the binning kernels (any size works)
+// Below this many tiles per compute unit a work-item per tile leaves a GPU idle, and the tile bounds
+// and tests run a work-group per tile. On an H100 (132 units), grouped against a work-item per tile
+// with 4096 decals: at 1080p (62 tiles a unit) bounds 0.017 against 0.023 ms, tests 0.023 against
+// 0.066; at 1440p (109) 0.027 against 0.022 and, with 1024 decals, tests 0.029 against 0.020; at 4K
+// (245) 0.059 against 0.034 and 0.060 against 0.050 (docs/benchmarks.md).
+constexpr std::size_t kGroupedTilesPerUnit = 96;
 
 double eventMs(const cl::Event& e) {
     const auto start = e.getProfilingInfo<CL_PROFILING_COMMAND_START>();
@@ -77,6 +83,7 @@ struct Compositor::State {
     cl::CommandQueue queue;  // this compositor's own, so two compositors on a device overlap
     bool unified = false;    // the device works in host memory (PoCL): buffers are mapped, not copied
     bool cpu = false;        // a CPU device: tile bounds without work-group barriers
+    std::size_t compute_units = 1;
     bool profiling = true;
     cl::Buffer texture_table, texels;
     std::size_t mask_count = 0;
@@ -123,6 +130,7 @@ Compositor::Compositor(ComputeDevice& device) : device_(device) {
                                    s.profiling ? CL_QUEUE_PROFILING_ENABLE : cl_command_queue_properties(0));
         s.unified = device_.info().device.getInfo<CL_DEVICE_HOST_UNIFIED_MEMORY>() == CL_TRUE;
         s.cpu = (device_.info().device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0;
+        s.compute_units = std::max<cl_uint>(device_.info().device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>(), 1);
         // DECALCOMP_STAGING=pinned|mapped overrides the choice (tests run the pinned path on PoCL)
         if (const char* staging = std::getenv("DECALCOMP_STAGING")) {
             if (std::string(staging) == "pinned")
@@ -322,6 +330,13 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             queue.enqueueWriteBuffer(s.frame_buffer, CL_FALSE, 0, sizeof(params), &params);
             queue.enqueueWriteBuffer(s.decal_buffer, CL_FALSE, 0, decals * sizeof(cl_types::DcDecal),
                                      s.decal_params.data());
+            // The light first: uploaded last, it slowed the first kernel (tile bounds) by 10 % on an
+            // H100, which was left writing back what the copy had left in its cache.
+            if (beauty && light_terms > 0) {
+                packLightTerms(*beauty, fold_light, static_cast<float*>(s.light.beginUpload(queue)));
+                s.light.uploadRange(queue, 0, light_terms * pixels * kBeautyPixelBytes);
+                s.light.finishUpload(queue);
+            }
             // Planes go from the G-buffer straight into the device's staging memory, run by run.
             const int runs = transferChunks(pixels, s.unified);
             const bool has_depth = frame.has(Attribute::Depth);
@@ -359,11 +374,6 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 s.masks.uploadRange(queue, 0, s.mask_count * pixels * sizeof(float));
                 s.masks.finishUpload(queue);
             }
-            if (beauty && light_terms > 0) {
-                packLightTerms(*beauty, fold_light, static_cast<float*>(s.light.beginUpload(queue)));
-                s.light.uploadRange(queue, 0, light_terms * pixels * kBeautyPixelBytes);
-                s.light.finishUpload(queue);
-            }
 
             cl::Event totals_read;
             cl::Event e_tiles, e_bounds, e_cdepth, e_cclear, e_cmask, e_ccount, e_cscan, e_cfill, e_count, e_scan,
@@ -374,13 +384,16 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             if (!s.kernels) s.kernels.emplace(device_.program(full_shading));
             CompositorKernels& k = *s.kernels;
             if (binned) {
-                // Per-tile kernels (TileKernels). By the device: the tile bounds a work-group per tile on
-                // GPUs, a work-item per tile on CPUs; the coarse counts and tile tests a work-item per
-                // tile everywhere until their grouped forms are measured on a GPU (docs/decisions.md).
+                // Per-tile kernels (TileKernels). By the device, as measured (docs/decisions.md): a
+                // work-item per tile on CPUs; on GPUs the coarse counts a work-group per (coarse) tile,
+                // and the tile bounds and tests too while a work-item per tile would leave the GPU
+                // short of work (fewer than kGroupedTilesPerUnit tiles per compute unit).
                 const TileKernels kind = options.tile_kernels;
-                const bool serial_bounds = kind == TileKernels::Device ? s.cpu : kind == TileKernels::Serial;
-                const bool serial = kind != TileKernels::Groups;
-                e_tiles = serial_bounds
+                const bool gpu = kind == TileKernels::Device && !s.cpu;
+                const bool few_tiles = tiles < kGroupedTilesPerUnit * s.compute_units;
+                const bool serial_counts = !(kind == TileKernels::Groups || gpu);
+                const bool serial_tiles = !(kind == TileKernels::Groups || (gpu && few_tiles));
+                e_tiles = serial_tiles
                               ? k.tile_bounds_serial(cl::EnqueueArgs(queue, cl::NDRange(roundUp(tiles, kBinGroupSize))),
                                                      s.frame_buffer, depth, position, s.tile_depth)
                               : k.tile_bounds(cl::EnqueueArgs(queue,
@@ -402,20 +415,21 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 e_cmask =
                     k.coarse_mark(cl::EnqueueArgs(queue, cl::NDRange(roundUp(decals * DC_MARK_LANES, kBinGroupSize))),
                                   s.frame_buffer, s.bounds, s.coarse_depth, s.chunk_masks);
-                e_ccount = serial ? k.coarse_count_serial(cl::EnqueueArgs(queue, coarse_range), s.frame_buffer,
-                                                          s.chunk_masks, s.chunk_starts, s.coarse_counts)
-                                  : k.coarse_count(cl::EnqueueArgs(queue, cl::NDRange(coarse * DC_CHUNK_LANES),
-                                                                   cl::NDRange(DC_CHUNK_LANES)),
-                                                   s.frame_buffer, s.chunk_masks, s.chunk_starts, s.coarse_counts);
+                e_ccount = serial_counts
+                               ? k.coarse_count_serial(cl::EnqueueArgs(queue, coarse_range), s.frame_buffer,
+                                                       s.chunk_masks, s.chunk_starts, s.coarse_counts)
+                               : k.coarse_count(cl::EnqueueArgs(queue, cl::NDRange(coarse * DC_CHUNK_LANES),
+                                                                cl::NDRange(DC_CHUNK_LANES)),
+                                                s.frame_buffer, s.chunk_masks, s.chunk_starts, s.coarse_counts);
                 e_cscan = k.scan(cl::EnqueueArgs(queue, scan_range, scan_range), s.coarse_counts, cl_int(coarse),
                                  s.coarse_offsets);
                 e_cfill = k.coarse_fill(cl::EnqueueArgs(queue, pair_range), s.frame_buffer, s.chunk_masks,
                                         s.chunk_starts, s.coarse_offsets, s.coarse_lists, cl_int(s.coarse_capacity));
                 // Level 2: each tile against its coarse tile's list.
                 const cl::NDRange tile_range(roundUp(tiles, kBinGroupSize));
-                e_count = (serial ? k.bin_count_serial : k.bin_count)(
-                    serial ? cl::EnqueueArgs(queue, tile_range)
-                           : cl::EnqueueArgs(queue, cl::NDRange(tiles * DC_BIN_LANES), cl::NDRange(DC_BIN_LANES)),
+                e_count = (serial_tiles ? k.bin_count_serial : k.bin_count)(
+                    serial_tiles ? cl::EnqueueArgs(queue, tile_range)
+                                 : cl::EnqueueArgs(queue, cl::NDRange(tiles * DC_BIN_LANES), cl::NDRange(DC_BIN_LANES)),
                     s.frame_buffer, s.decal_buffer, s.bounds, s.tile_depth, s.coarse_offsets, s.coarse_lists,
                     cl_int(s.coarse_capacity), s.listed, s.tile_counts);
                 e_scan = k.scan(cl::EnqueueArgs(queue, scan_range, scan_range), s.tile_counts, cl_int(tiles),

@@ -56,14 +56,14 @@ for edge in 3 6; do
 done
 }
 
-# Binning's coarse counts and tile tests on the GPU: a work-group per tile (--tile-kernels groups)
-# against the default, a work-item per tile (both with the grouped tile bounds); same binary and
-# program, alternated twice
+# Binning's per-tile kernels on the GPU: the device's rule (--tile-kernels device: grouped coarse
+# counts, grouped tile bounds and tests below 96 tiles per compute unit) against each form forced,
+# at three tile counts; same binary and program, alternated twice
 section_tilekernels() {
 for round in 1 2; do
-    for kind in device groups; do
-        step "tiles-$kind-$round" --repeat 20 --sizes 1920x1080,3840x2160 --counts 1,4096 --modes binned \
-            --no-transfers --tile-kernels $kind
+    for kind in device serial groups; do
+        step "tiles-$kind-$round" --repeat 20 --sizes 1920x1080,2560x1440,3840x2160 --counts 1,1024,4096 \
+            --modes binned --no-transfers --tile-kernels $kind
         step "tiles-$kind-coverage-$round" --repeat 20 --sizes 1920x1080,3840x2160 --counts 1,4096 --modes binned \
             --no-transfers --same-coverage 3 --tile-kernels $kind
     done

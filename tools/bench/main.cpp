@@ -327,8 +327,10 @@ int main(int argc, char** argv) {
     app.add_option("--pixel-filter", opt.pixel_filter,
                    "integrate decals over this pixel filter (TYPE:WIDTH, e.g. blackman-harris:3; default none); the "
                    "frames then keep their normal pass, as renders with a filter have one");
-    app.add_option("--tile-kernels", opt.tile_kernels,
-                   "binning's per-tile kernels: device (work-groups on GPUs, work-items on CPUs), groups or serial")
+    app.add_option(
+           "--tile-kernels", opt.tile_kernels,
+           "binning's per-tile kernels: device (by the device: work-items on CPUs; on GPUs grouped coarse counts, "
+           "and grouped tile bounds and tests on frames with few tiles per compute unit), groups or serial")
         ->check(CLI::IsMember({"device", "groups", "serial"}));
     bool texture_space = false;
     app.add_flag("--texture-space", texture_space,
