@@ -13,6 +13,15 @@
 #include "shared_types.h"
 #include "texture_sample.h"
 
+/* A build that names neither the point program nor a shading program's variant and paths (the
+ * build-time checks) compiles every path. */
+#if !defined(DC_POINT_SHADING_ONLY) && !defined(DC_SHADE_VARIANT)
+#define DC_SHADE_VARIANT 0
+#define DC_PATH_TAPS 1
+#define DC_PATH_FAST 1
+#define DC_PATH_REST 1
+#endif
+
 /* The inverse for directions: the transpose of the (rotation) part of world_to_camera. */
 inline float3 dc_camera_to_world_vector(__constant const DcFrame* f, float3 v) {
     const __constant float* m = f->world_to_camera;
@@ -292,9 +301,6 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                                     __global const float* mask_weights, __global const uint* occlusion_maps,
                                     __global float* light, __global const float4* rest_points,
                                     __global const float4* rest_frames, const int variant, int x, int y) {
-#ifndef DC_POINT_SHADING_ONLY
-    const bool point_only = (variant & DC_VARIANT_POINT) != 0;
-#endif
     const size_t i = (size_t)y * frame->width + x;
     const int attributes = frame->attributes;
     const bool has_group1 = (attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
@@ -351,11 +357,16 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
         (void)original0, (void)original1, (void)rest_points, (void)rest_frames;
         if (1) {
 #else
-        DcTaps taps = !point_only && frame->filter_taps > 0 && has_normal
+        /* A shading program (device.cpp) holds the paths its build names (DC_PATH_x): each inlines
+         * a whole decal evaluation, and NVIDIA's compiler took minutes over all of them at once. */
+#if !DC_PATH_REST
+        (void)rest_points, (void)rest_frames;
+#endif
+        DcTaps taps = frame->filter_taps > 0 && has_normal
                                 ? dc_taps(frame, depth_plane, position_plane, original0, original1, frame->has_normal, x,
                                           y, p, normal)
                                 : dc_point_taps();
-        if (point_only || (taps.mode == DC_TAPS_POINT && !frame->rest_decals)) {
+        if (taps.mode == DC_TAPS_POINT && !frame->rest_decals) {
 #endif
             /* The common case in a loop of its own: without the branches to the pixel filter and the
              * rest pose in its body the compiler keeps it lean (PoCL: 1.4x, docs/benchmarks.md). */
@@ -367,20 +378,27 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                                    mask_weights, occlusion_maps, textures, texels, s, variant, &applied);
             }
 #ifndef DC_POINT_SHADING_ONLY
+#if DC_PATH_TAPS
         } else if (taps.mode == DC_TAPS_PLANE && !frame->rest_decals && !frame->filter_fast) {
             s = dc_filter_stacked(frame, decals, tile_decals, binned, begin, end, &taps.rays, &taps.plane, has_normal,
                                   x, y, mask_weights, textures, texels, occlusion_maps, s, variant, &applied);
-        } else if (taps.mode == DC_TAPS_PLANE && !frame->rest_decals) {
+#endif
+#if DC_PATH_FAST
+        } else if (taps.mode == DC_TAPS_PLANE && !frame->rest_decals && frame->filter_fast) {
             for (int k = begin; k < end; ++k) {
                 const int index = binned ? tile_decals[k] : k;
                 if (pixel_test && !dc_pixel_in_bounds(&decal_bounds[index], x, y)) continue;
                 s = dc_integrated_decal(frame, &decals[index], &taps.plane, has_normal, x, y, mask_weights,
                                         occlusion_maps, textures, texels, s, variant, &applied);
             }
+#endif
+#if DC_PATH_TAPS || DC_PATH_FAST
         } else if (taps.mode == DC_TAPS_SPLIT && !frame->rest_decals) {
             s = dc_filter_stacked_split(frame, decals, tile_decals, binned, begin, end, &taps, has_normal, x, y,
                                         mask_weights, textures, texels, occlusion_maps, s, variant, &applied);
-        } else {
+#endif
+#if DC_PATH_REST
+        } else if (frame->rest_decals) {
             for (int k = begin; k < end; ++k) {
                 __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
                 if (d->rest_binding >= 0) /* texture-space: at its rest point(s) (rest_pose.h) */
@@ -399,6 +417,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                                        occlusion_maps, textures, texels, s, variant, &applied);
             }
 #endif
+#endif
         }
         if (!applied) return (float3)(0.0f);
         const float3 world_normal = s.normal_changed ? dc_camera_to_world_vector(frame, s.normal) : in1.xyz;
@@ -413,7 +432,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
 #ifdef DC_POINT_SHADING_ONLY
             const uint mixed_surfaces = 0u;
 #else
-            const uint mixed_surfaces = !point_only && frame->filter_taps > 0 && frame->light_divided && !frame->relight
+            const uint mixed_surfaces = frame->filter_taps > 0 && frame->light_divided && !frame->relight
                                             ? dc_mixed_surfaces(frame, depth_plane, position_plane, x, y, -p.z, in1.xyz)
                                             : 0u;
 #endif
@@ -476,23 +495,22 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                    tile_offsets, tile_decals, decal_bounds, binned, list_capacity,                            \
                    mask_weights, occlusion_maps, beauty, light, rest_points, rest_frames, VARIANT)
 
-/* Every target, kind and blast occlusion; then leaner kernels the host picks when a scene fits.
- * The host builds these four only for filtered and texture-space frames (ComputeDevice::program(true)):
- * a program built with DC_POINT_SHADING_ONLY leaves them out. */
-#ifndef DC_POINT_SHADING_ONLY
-__kernel void dc_shade(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(0); }
-__kernel void dc_shade_flat(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_FLAT); }
-__kernel void dc_shade_albedo(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_ALBEDO_ONLY); }
-__kernel void dc_shade_albedo_flat(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT); }
-#endif
-/* The same for point-sampled frames without texture-space decals: none of the pixel filter's or
- * the rest pose's code, and so none of their registers (docs/benchmarks.md). */
+/* The point program (DC_POINT_SHADING_ONLY): every target, kind and blast occlusion, then leaner
+ * kernels the host picks when a scene fits, none with the pixel filter's or the rest pose's code,
+ * and so none of their registers (docs/benchmarks.md). */
+#ifdef DC_POINT_SHADING_ONLY
 __kernel void dc_shade_point(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_POINT); }
 __kernel void dc_shade_point_albedo(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_ALBEDO_ONLY); }
 __kernel void dc_shade_point_flat(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_FLAT); }
 __kernel void dc_shade_point_albedo_flat(DC_SHADE_ARGUMENTS) {
     DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT);
 }
+#else
+/* A shading program (ComputeDevice::shadingProgram), for filtered and texture-space frames: one
+ * kernel, of the variant (DC_SHADE_VARIANT) and with the paths (DC_PATH_TAPS, DC_PATH_FAST,
+ * DC_PATH_REST) its build names. */
+__kernel void dc_shade(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_SHADE_VARIANT); }
+#endif
 
 #undef DC_SHADE_ARGUMENTS
 #undef DC_SHADE_CALL

@@ -121,19 +121,25 @@ TEST(Kernels, ProgramBuildsOnPocl) {
 // The kernel names of a program, ';'-separated as OpenCL lists them, each between ';'.
 std::string kernelNames(const cl::Program& program) { return ";" + program.getInfo<CL_PROGRAM_KERNEL_NAMES>() + ";"; }
 
-// Point-sampled work builds a program without the full shading kernels (a cold NVIDIA build of
-// those took over 9 minutes); asking for them builds the full program, which is then the one given.
-TEST(Kernels, PointSampledWorkLeavesTheFullShadingKernelsUnbuilt) {
+// Point-sampled work builds a program without the shading kernels of filtered frames (a cold NVIDIA
+// build of those took over 9 minutes); each of those comes from a program of its own variant and
+// paths, built once.
+TEST(Kernels, FilteredShadingKernelsComeFromProgramsOfTheirOwn) {
     ComputeDevice device("cpu");
     const std::string point = kernelNames(device.program());
     EXPECT_NE(point.find(";dc_shade_point;"), std::string::npos) << point;
     EXPECT_NE(point.find(";dc_bin_fill;"), std::string::npos) << point;
-    for (const char* full : {";dc_shade;", ";dc_shade_albedo;", ";dc_shade_flat;", ";dc_shade_albedo_flat;"})
-        EXPECT_EQ(point.find(full), std::string::npos) << full;
-    const std::string all = kernelNames(device.program(true));
-    EXPECT_NE(all.find(";dc_shade;"), std::string::npos) << all;
-    EXPECT_NE(all.find(";dc_shade_point;"), std::string::npos) << all;
-    EXPECT_EQ(kernelNames(device.program()), all);
+    EXPECT_EQ(point.find(";dc_shade;"), std::string::npos) << point;
+    const ShadingPaths fast{false, true, false};
+    const std::string shading = kernelNames(device.shadingProgram(DC_VARIANT_FLAT, fast));
+    EXPECT_NE(shading.find(";dc_shade;"), std::string::npos) << shading;
+    EXPECT_EQ(shading.find(";dc_shade_point;"), std::string::npos) << shading;
+    EXPECT_EQ(device.shadingProgram(DC_VARIANT_FLAT, fast)(), device.shadingProgram(DC_VARIANT_FLAT, fast)());
+    EXPECT_NE(device.shadingProgram(DC_VARIANT_FLAT, fast)(), device.shadingProgram(0, fast)());
+    EXPECT_NE(device.shadingProgram(DC_VARIANT_FLAT, fast)(),
+              device.shadingProgram(DC_VARIANT_FLAT, ShadingPaths{true, false, false})());
+    EXPECT_EQ(kernelNames(device.program()), point);
+    EXPECT_THROW(device.shadingProgram(DC_VARIANT_POINT, fast), Error);
 }
 
 // One compositor, a point-sampled frame, then a filtered one (which needs the full shading

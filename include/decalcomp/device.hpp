@@ -2,6 +2,8 @@
 // OpenCL device selection and the built decalcomp program.
 #include <CL/opencl.hpp>
 
+#include <map>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -29,7 +31,15 @@ std::vector<DeviceInfo> selectDevices(const std::string& spec);
 // Names an OpenCL status code ("CL_INVALID_VALUE"), or "CL error N" for unknown codes.
 std::string clErrorName(int code);
 
-// A context and in-order profiling queue on one device, with the embedded program built once.
+// The paths of a filtered or texture-space frame's shading kernel (kernels/shading.cl).
+struct ShadingPaths {
+    bool taps = false;  // the pixel filter by taps
+    bool fast = false;  // the pixel filter in closed form (`:fast`); its mixed pixels take taps too
+    bool rest = false;  // texture-space decals, at their rest pose
+    int bits() const { return (taps ? 1 : 0) | (fast ? 2 : 0) | (rest ? 4 : 0); }
+};
+
+// A context and in-order profiling queue on one device, with the embedded programs built once.
 class ComputeDevice {
 public:
     explicit ComputeDevice(const std::string& selector = "");
@@ -41,12 +51,16 @@ public:
     const DeviceInfo& info() const { return info_; }
     cl::Context& context() { return context_; }
     cl::CommandQueue& queue() { return queue_; }
-    // The kernels, built on first use. Without `full_shading`, every kernel but the shading kernels
-    // of filtered and texture-space frames, whose inlined filter paths are most of a cold build
-    // (over 9 minutes on NVIDIA's compiler), so that point-sampled work never waits for them; with
-    // it, or once that program exists, every kernel. Throws Error(Device) with the device name,
-    // options and full build log.
-    cl::Program& program(bool full_shading = false);
+    // Programs, each built on first use; both throw Error(Device) with the device name, options and
+    // full build log. Safe to call from several threads.
+    // Every kernel but the shading kernels of filtered and texture-space frames: binning, the
+    // point-sampled shading, the rest pose's lookups, the bake.
+    cl::Program& program();
+    // The kernel `dc_shade` of filtered and texture-space frames, of one variant (DC_VARIANT_ALBEDO_ONLY
+    // and DC_VARIANT_FLAT bits) with the given paths alone. Each path inlines a whole decal
+    // evaluation, and NVIDIA's compiler took over 8 minutes over every path and variant in one
+    // program; a frame needs one variant and two or three paths.
+    cl::Program& shadingProgram(int variant, const ShadingPaths& paths);
 
 private:
     cl::Program build(const std::string& options);
@@ -54,7 +68,9 @@ private:
     DeviceInfo info_;
     cl::Context context_;
     cl::CommandQueue queue_;
-    cl::Program program_, full_program_;  // null until built
+    std::mutex build_mutex_;                       // compositors on worker threads share the device
+    cl::Program program_;                          // null until built
+    std::map<int, cl::Program> shading_programs_;  // by variant and paths
     bool profiling_ = true;
 };
 

@@ -147,11 +147,24 @@ ComputeDevice::ComputeDevice(DeviceInfo info) : info_(std::move(info)) {
     }
 }
 
-cl::Program& ComputeDevice::program(bool full_shading) {
-    if (full_shading && !full_program_()) full_program_ = build(buildOptions());
-    if (full_program_()) return full_program_;
+cl::Program& ComputeDevice::program() {
+    std::lock_guard lock(build_mutex_);
     if (!program_()) program_ = build(buildOptions() + " -DDC_POINT_SHADING_ONLY");  // (kernels/shading.cl)
     return program_;
+}
+
+cl::Program& ComputeDevice::shadingProgram(int variant, const ShadingPaths& paths) {
+    if (variant < 0 || variant > 3)
+        throw Error(ErrorKind::Usage,
+                    fmt::format("shading program: variant {} is not an albedo-only and flat combination", variant));
+    const int key = variant | paths.bits() << 2;
+    std::lock_guard lock(build_mutex_);
+    cl::Program& program = shading_programs_[key];
+    if (!program())
+        program =
+            build(fmt::format("{} -DDC_SHADE_VARIANT={} -DDC_PATH_TAPS={:d} -DDC_PATH_FAST={:d} -DDC_PATH_REST={:d}",
+                              buildOptions(), variant, paths.taps, paths.fast, paths.rest));
+    return program;
 }
 
 cl::Program ComputeDevice::build(const std::string& options) {

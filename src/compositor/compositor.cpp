@@ -33,6 +33,12 @@ constexpr int kBinGroupSize = 64;  // work-items per group in the binning kernel
 // (245) 0.059 against 0.034 and 0.060 against 0.050 (docs/benchmarks.md).
 constexpr std::size_t kGroupedTilesPerUnit = 96;
 
+// The paths of the shading kernel that the frame takes (kernels/shading.cl tests the same fields).
+ShadingPaths shadingPaths(const cl_types::DcFrame& params) {
+    return {params.filter_taps > 0 && !params.filter_fast, params.filter_taps > 0 && params.filter_fast,
+            params.rest_decals != 0};
+}
+
 double eventMs(const cl::Event& e) {
     const auto start = e.getProfilingInfo<CL_PROFILING_COMMAND_START>();
     const auto end = e.getProfilingInfo<CL_PROFILING_COMMAND_END>();
@@ -77,8 +83,8 @@ std::vector<Attribute> compositedAttributes(const DecalScene& scene) {
 // Everything a frame needs on the device, kept across frames: buffers are reallocated only when
 // a frame is larger than any before it, the pinned staging memory with them.
 struct Compositor::State {
-    // built by the first frame: from the program without the full shading kernels when that frame
-    // is point-sampled (ComputeDevice::program)
+    // built by the first frame, from the point program (ComputeDevice::program); filtered and
+    // texture-space frames' shading kernels come from their own programs (CompositorKernels::shading)
     std::optional<CompositorKernels> kernels;
     cl::CommandQueue queue;  // this compositor's own, so two compositors on a device overlap
     bool unified = false;    // the device works in host memory (PoCL): buffers are mapped, not copied
@@ -381,7 +387,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             const cl::Buffer& depth = s.depth.device();
             const cl::Buffer& position = s.position.device();
             const bool full_shading = params.filter_taps > 0 || params.rest_decals;
-            if (!s.kernels) s.kernels.emplace(device_.program(full_shading));
+            if (!s.kernels) s.kernels.emplace(device_.program());
             CompositorKernels& k = *s.kernels;
             if (binned) {
                 // Per-tile kernels (TileKernels). By the device, as measured (docs/decisions.md): a
@@ -462,7 +468,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             CompositorKernels::Shade& shade =
                 k.shading((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0) |
                               (full_shading ? 0 : DC_VARIANT_POINT),
-                          [&]() -> const cl::Program& { return device_.program(true); });
+                          shadingPaths(params), device_);
             // Binned, one work-group per screen tile: its work-items walk the same decal list. Unbinned
             // the same groups: PoCL keeps a work-group's private variables on its thread's stack, and
             // the groups it picks itself for a whole frame (40 x 78) overflowed it.

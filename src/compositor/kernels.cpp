@@ -6,9 +6,10 @@ namespace decalcomp {
 
 namespace {
 
-// The shading kernels in DC_VARIANT_x bit order.
+// The point shading kernels in DC_VARIANT_x bit order; the shading programs' keys take the bits
+// above them for the paths.
 static_assert(DC_VARIANT_ALBEDO_ONLY == 1 && DC_VARIANT_FLAT == 2 && DC_VARIANT_POINT == 4,
-              "shade_ is indexed by the variant bits");
+              "point_shade_ is indexed by the variant bits, and paths are keyed from bit 2");
 
 }  // namespace
 
@@ -28,22 +29,16 @@ CompositorKernels::CompositorKernels(const cl::Program& program)
       occlusion_build(program, "dc_occlusion_build"),
       rest_lookup(program, "dc_rest_lookup"),
       rest_frame(program, "dc_rest_frame"),
-      shade_{std::nullopt,
-             std::nullopt,
-             std::nullopt,
-             std::nullopt,
-             Shade(program, "dc_shade_point"),
-             Shade(program, "dc_shade_point_albedo"),
-             Shade(program, "dc_shade_point_flat"),
-             Shade(program, "dc_shade_point_albedo_flat")} {}
+      point_shade_{Shade(program, "dc_shade_point"), Shade(program, "dc_shade_point_albedo"),
+                   Shade(program, "dc_shade_point_flat"), Shade(program, "dc_shade_point_albedo_flat")} {}
 
-CompositorKernels::Shade& CompositorKernels::shading(int variant, const std::function<const cl::Program&()>& full) {
-    std::optional<Shade>& kernel = shade_.at(std::size_t(variant));
-    if (!kernel) {
-        static const char* const names[4] = {"dc_shade", "dc_shade_albedo", "dc_shade_flat", "dc_shade_albedo_flat"};
-        kernel.emplace(full(), names[variant]);  // (the point variants are all built above)
-    }
-    return *kernel;
+CompositorKernels::Shade& CompositorKernels::shading(int variant, const ShadingPaths& paths, ComputeDevice& device) {
+    if (variant & DC_VARIANT_POINT) return point_shade_.at(std::size_t(variant & ~DC_VARIANT_POINT));
+    const int key = variant | paths.bits() << 2;
+    auto found = shade_.find(key);
+    if (found == shade_.end())
+        found = shade_.emplace(key, Shade(device.shadingProgram(variant, paths), "dc_shade")).first;
+    return found->second;
 }
 
 }  // namespace decalcomp

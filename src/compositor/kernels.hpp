@@ -3,15 +3,17 @@
 // signature (kernels/*.cl), so a call with a missing or misplaced argument does not compile.
 #include <CL/opencl.hpp>
 #include <array>
-#include <functional>
-#include <optional>
+#include <map>
+
+#include "decalcomp/device.hpp"
 
 namespace decalcomp {
 
 using cl::Buffer;
 
 struct CompositorKernels {
-    // Every kernel of `program` (ComputeDevice::program) but the full shading ones, which come later.
+    // Every kernel of `program` (ComputeDevice::program); the shading kernels of filtered and
+    // texture-space frames come later, from their own programs.
     explicit CompositorKernels(const cl::Program& program);
 
     // frame, depth plane, position plane, tile depth ranges: a work-group per tile (GPUs), or a
@@ -52,12 +54,13 @@ struct CompositorKernels {
         cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
                           Buffer, Buffer, Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer>;
     // The shading kernel of a variant (DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT | DC_VARIANT_POINT
-    // bits); those without DC_VARIANT_POINT are taken from `full` (ComputeDevice::program(true),
-    // called only then) the first time one is asked for.
-    Shade& shading(int variant, const std::function<const cl::Program&()>& full);
+    // bits): with DC_VARIANT_POINT, the point program's; without, `dc_shade` of
+    // device.shadingProgram(variant, paths), built and taken the first time it is asked for.
+    Shade& shading(int variant, const ShadingPaths& paths, ComputeDevice& device);
 
 private:
-    std::array<std::optional<Shade>, 8> shade_;
+    std::array<Shade, 4> point_shade_;  // by the variant's other bits
+    std::map<int, Shade> shade_;        // by variant and paths
 };
 
 }  // namespace decalcomp

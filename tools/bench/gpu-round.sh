@@ -8,8 +8,9 @@
 #   git rm -r -q --cached data && echo /data/ >>.git/info/exclude      # before
 #   git reset -q && sed -i '\|^/data/$|d' .git/info/exclude            # after
 # The first run builds the kernels on NVIDIA: the point-sampled program first (about 40 s on an
-# H100), the filter's full program only in the last step. Results land in $OUT (the device tool's
-# output folder) as machine.txt, run.log (every step's report) and results.csv (every step's CSV
+# H100), the filter's shading programs (one kernel each, docs/decisions.md) only in the last step,
+# in the first case of each filter (its wall time in run.log). Results land in $OUT (the device
+# tool's output folder) as machine.txt, run.log (every step's report) and results.csv (every step's CSV
 # rows, each led by the step's name); each step appends as it finishes, so a call that runs out of
 # time still brings back the steps before. The tool brings back at most eight files a call.
 # The NVIDIA compiler's cache goes to .gpu/nvc and comes back as $OUT/nvc.tgz: unpacked into .gpu/
@@ -97,7 +98,7 @@ done
 }
 
 # Issue 15: Blender's default filter, by taps and in closed form (:fast), against point samples,
-# alternated twice (the first filtered run builds the full program)
+# alternated twice (the first run of each builds its shading program)
 section_filter() {
 for round in 1 2; do
     for filter in none blackman-harris:3 blackman-harris:3:fast; do
