@@ -26,11 +26,13 @@ mkdir -p "$OUT"
 
 # step NAME BENCH-ARGS...: one bench run; its report to run.log, its CSV rows to results.csv.
 # KDIR=dir step ...: the kernels from that folder instead of the binary's (an A/B of a kernel change)
+# STEP_LIMIT=seconds: stop a step that runs longer (a cold build), so that the steps after it still run
 step() {
     name=$1
     shift
     echo "== $name: $(date -u +%H:%M:%S) ${KDIR:+DECALCOMP_KERNEL_DIR=$KDIR }$B $*" >>"$OUT/run.log"
-    env ${KDIR:+DECALCOMP_KERNEL_DIR=$KDIR} $E $B --device nvidia "$@" --csv /tmp/step.csv >>"$OUT/run.log" 2>&1
+    timeout "${STEP_LIMIT:-0}" env ${KDIR:+DECALCOMP_KERNEL_DIR=$KDIR} $E $B --device nvidia "$@" --csv /tmp/step.csv \
+        >>"$OUT/run.log" 2>&1 || echo "== $name: exit status $? (124: past STEP_LIMIT=${STEP_LIMIT:-0} s)" >>"$OUT/run.log"
     [ -f /tmp/step.csv ] && sed "s/^/$name,/" /tmp/step.csv >>"$OUT/results.csv"
     rm -f /tmp/step.csv
 }
