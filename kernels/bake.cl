@@ -10,6 +10,9 @@
 #include "materials.h"
 #include "shared_types.h"
 
+/* A shading program (ComputeDevice::shadingProgram) holds its dc_shade alone. */
+#ifndef DC_SHADING_PROGRAM
+
 /* A candidate triangle at a texel: its barycentric weights at the centre and how far the centre is
  * from it (0 inside), then a tie-break (smaller wins). */
 typedef struct {
@@ -163,3 +166,5 @@ __kernel void dc_bake_layer(__constant const DcBakeLayer* layer, __global const 
     const bool has_emission = dc_value3(d, DC_TARGET_EMISSION, d->emission_value, d->emission_texture, emission, &v);
     emission_out[out] = dc_bake_texel(has_emission, v, c);
 }
+
+#endif /* DC_SHADING_PROGRAM */

@@ -5,6 +5,9 @@
 #include "pixel_filter.h"
 #include "work_group.h"
 
+/* A shading program (ComputeDevice::shadingProgram) holds its dc_shade alone. */
+#ifndef DC_SHADING_PROGRAM
+
 /* Relative and absolute slack on depth ranges, for float rounding in both sides of the test. */
 #define DC_DEPTH_SLACK_REL 1e-4f
 #define DC_DEPTH_SLACK_ABS 1e-6f
@@ -440,3 +443,5 @@ __kernel void dc_bin_fill(__constant const DcFrame* frame, __global const int* c
     for (int k = begin; k < end && next < capacity; ++k)
         if (listed[dc_listed_flag(frame, k, tile)]) tile_decals[next++] = coarse_lists[k];
 }
+
+#endif /* DC_SHADING_PROGRAM */

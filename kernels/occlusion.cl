@@ -8,6 +8,9 @@
 #include "decal_kinds.h"
 #include "occlusion.h"
 
+/* A shading program (ComputeDevice::shadingProgram) holds its dc_shade alone. */
+#ifndef DC_SHADING_PROGRAM
+
 __kernel void dc_occlusion_build(__constant const DcFrame* frame, __global const float* depth_plane,
                                  __global const float4* position_plane, __global const DcDecal* decals,
                                  __global const int* occluders, int occluder_count, __global uint* maps) {
@@ -22,3 +25,5 @@ __kernel void dc_occlusion_build(__constant const DcFrame* frame, __global const
         if (dc_occlusion_texel(d, l, &t)) atomic_min(&maps[dc_occlusion_index(d, t)], as_uint(length(l)));
     }
 }
+
+#endif /* DC_SHADING_PROGRAM */

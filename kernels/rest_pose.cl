@@ -5,6 +5,9 @@
 #include "rest_pose.h"
 #include "shared_types.h"
 
+/* A shading program (ComputeDevice::shadingProgram) holds its dc_shade alone. */
+#ifndef DC_SHADING_PROGRAM
+
 /* Bake-mode bindings (uv_only) get points[i] = (u, v, 0, 1) for the object's pixels instead.
  * Writes points[i] = (rest point, triangle + 1), or 0 where the pixel is not the object's or no
  * triangle holds its UV (within 1e-5 barycentric: the most inside of the cell's candidates), and
@@ -178,3 +181,5 @@ __kernel void dc_rest_frame(__constant const DcFrame* frame, int b, __global con
     }
     rest_frames[(size_t)b * pixels + i] = q;
 }
+
+#endif /* DC_SHADING_PROGRAM */

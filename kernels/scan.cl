@@ -5,6 +5,9 @@
 #include "shared_types.h"
 #include "work_group.h"
 
+/* A shading program (ComputeDevice::shadingProgram) holds its dc_shade alone. */
+#ifndef DC_SHADING_PROGRAM
+
 __kernel __attribute__((reqd_work_group_size(DC_SCAN_GROUP, 1, 1)))
 void dc_scan(__global const int* counts, int n, __global int* offsets) {
     __local int sums[DC_SCAN_GROUP];
@@ -21,3 +24,5 @@ void dc_scan(__global const int* counts, int n, __global int* offsets) {
     }
     if (lid == DC_SCAN_GROUP - 1) offsets[n] = total;
 }
+
+#endif /* DC_SHADING_PROGRAM */

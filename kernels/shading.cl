@@ -366,7 +366,8 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                                 ? dc_taps(frame, depth_plane, position_plane, original0, original1, frame->has_normal, x,
                                           y, p, normal)
                                 : dc_point_taps();
-        if (taps.mode == DC_TAPS_POINT && !frame->rest_decals) {
+        /* (a program of the rest pose's loop alone has no other branch: texture-space frames take it) */
+        if (DC_PATH_TAPS + DC_PATH_FAST > 0 && taps.mode == DC_TAPS_POINT && !frame->rest_decals) {
 #endif
             /* The common case in a loop of its own: without the branches to the pixel filter and the
              * rest pose in its body the compiler keeps it lean (PoCL: 1.4x, docs/benchmarks.md). */

@@ -5,6 +5,9 @@
 #include "matrix.h"
 #include "reconstruct.h"
 
+/* A shading program (ComputeDevice::shadingProgram) holds its dc_shade alone. */
+#ifndef DC_SHADING_PROGRAM
+
 __kernel __attribute__((reqd_work_group_size(DC_TILE_SIZE, DC_TILE_SIZE, 1)))
 void dc_tile_bounds(__constant const DcFrame* frame, __global const float* depth_plane,
                     __global const float4* position_plane, __global float2* tile_depth) {
@@ -71,3 +74,5 @@ __kernel void dc_tile_bounds_serial(__constant const DcFrame* frame, __global co
         }
     tile_depth[tile] = (float2)(lo, hi);
 }
+
+#endif /* DC_SHADING_PROGRAM */

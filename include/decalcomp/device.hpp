@@ -68,9 +68,17 @@ private:
     DeviceInfo info_;
     cl::Context context_;
     cl::CommandQueue queue_;
-    std::mutex build_mutex_;                       // compositors on worker threads share the device
-    cl::Program program_;                          // null until built
-    std::map<int, cl::Program> shading_programs_;  // by variant and paths
+    // Compositors on worker threads share the device: each program builds once, and a thread waits
+    // only for the program it asks for (the map's lock is not held over a build).
+    struct LazyProgram {
+        std::mutex building;
+        cl::Program program;  // null until built
+    };
+    cl::Program& buildOnce(LazyProgram& lazy, const std::string& options);
+
+    std::mutex programs_mutex_;  // over the map
+    LazyProgram point_program_;
+    std::map<int, LazyProgram> shading_programs_;  // by variant and paths
     bool profiling_ = true;
 };
 

@@ -147,10 +147,14 @@ ComputeDevice::ComputeDevice(DeviceInfo info) : info_(std::move(info)) {
     }
 }
 
+cl::Program& ComputeDevice::buildOnce(LazyProgram& lazy, const std::string& options) {
+    std::lock_guard lock(lazy.building);
+    if (!lazy.program()) lazy.program = build(options);  // one that throws is tried again next time
+    return lazy.program;
+}
+
 cl::Program& ComputeDevice::program() {
-    std::lock_guard lock(build_mutex_);
-    if (!program_()) program_ = build(buildOptions() + " -DDC_POINT_SHADING_ONLY");  // (kernels/shading.cl)
-    return program_;
+    return buildOnce(point_program_, buildOptions() + " -DDC_POINT_SHADING_ONLY");  // (kernels/shading.cl)
 }
 
 cl::Program& ComputeDevice::shadingProgram(int variant, const ShadingPaths& paths) {
@@ -158,13 +162,14 @@ cl::Program& ComputeDevice::shadingProgram(int variant, const ShadingPaths& path
         throw Error(ErrorKind::Usage,
                     fmt::format("shading program: variant {} is not an albedo-only and flat combination", variant));
     const int key = variant | paths.bits() << 2;
-    std::lock_guard lock(build_mutex_);
-    cl::Program& program = shading_programs_[key];
-    if (!program())
-        program =
-            build(fmt::format("{} -DDC_SHADE_VARIANT={} -DDC_PATH_TAPS={:d} -DDC_PATH_FAST={:d} -DDC_PATH_REST={:d}",
-                              buildOptions(), variant, paths.taps, paths.fast, paths.rest));
-    return program;
+    LazyProgram* lazy = nullptr;
+    {
+        std::lock_guard lock(programs_mutex_);
+        lazy = &shading_programs_[key];  // std::map: the entry stays where it is as others are added
+    }
+    return buildOnce(*lazy, fmt::format("{} -DDC_SHADING_PROGRAM -DDC_SHADE_VARIANT={} -DDC_PATH_TAPS={:d} "
+                                        "-DDC_PATH_FAST={:d} -DDC_PATH_REST={:d}",
+                                        buildOptions(), variant, paths.taps, paths.fast, paths.rest));
 }
 
 cl::Program ComputeDevice::build(const std::string& options) {

@@ -29,14 +29,15 @@ constexpr int kBinGroupSize = 64;  // work-items per group in the binning kernel
 // Below this many tiles per compute unit a work-item per tile leaves a GPU idle, and the tile bounds
 // and tests run a work-group per tile. On an H100 (132 units), grouped against a work-item per tile
 // with 4096 decals: at 1080p (62 tiles a unit) bounds 0.017 against 0.023 ms, tests 0.023 against
-// 0.066; at 1440p (109) 0.027 against 0.022 and, with 1024 decals, tests 0.029 against 0.020; at 4K
-// (245) 0.059 against 0.034 and 0.060 against 0.050 (docs/benchmarks.md).
+// 0.066; at 1440p (109) bounds 0.027 against 0.023, tests 0.032 against 0.056 but, with 1024 decals,
+// 0.029 against 0.020; at 4K (245) 0.059 against 0.034 and 0.060 against 0.050 (docs/benchmarks.md).
 constexpr std::size_t kGroupedTilesPerUnit = 96;
 
-// The paths of the shading kernel that the frame takes (kernels/shading.cl tests the same fields).
+// The paths of the shading kernel that the frame takes (kernels/shading.cl tests the same fields):
+// a frame with texture-space decals takes the rest pose's loop alone, filtered or not.
 ShadingPaths shadingPaths(const cl_types::DcFrame& params) {
-    return {params.filter_taps > 0 && !params.filter_fast, params.filter_taps > 0 && params.filter_fast,
-            params.rest_decals != 0};
+    const bool rest = params.rest_decals != 0, filtered = params.filter_taps > 0;
+    return {filtered && !params.filter_fast && !rest, filtered && params.filter_fast && !rest, rest};
 }
 
 double eventMs(const cl::Event& e) {
@@ -386,7 +387,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 e_fill;
             const cl::Buffer& depth = s.depth.device();
             const cl::Buffer& position = s.position.device();
-            const bool full_shading = params.filter_taps > 0 || params.rest_decals;
+            const bool shading_program = params.filter_taps > 0 || params.rest_decals;  // not the point program's
             if (!s.kernels) s.kernels.emplace(device_.program());
             CompositorKernels& k = *s.kernels;
             if (binned) {
@@ -467,7 +468,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             });
             CompositorKernels::Shade& shade =
                 k.shading((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0) |
-                              (full_shading ? 0 : DC_VARIANT_POINT),
+                              (shading_program ? 0 : DC_VARIANT_POINT),
                           shadingPaths(params), device_);
             // Binned, one work-group per screen tile: its work-items walk the same decal list. Unbinned
             // the same groups: PoCL keeps a work-group's private variables on its thread's stack, and
