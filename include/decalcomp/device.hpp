@@ -36,7 +36,9 @@ struct ShadingPaths {
     bool taps = false;  // the pixel filter by taps
     bool fast = false;  // the pixel filter in closed form (`:fast`); its mixed pixels take taps too
     bool rest = false;  // texture-space decals, at their rest pose
-    int bits() const { return (taps ? 1 : 0) | (fast ? 2 : 0) | (rest ? 4 : 0); }
+    bool any() const { return taps || fast || rest; }
+    // A program's key: the variant's two bits (DC_VARIANT_ALBEDO_ONLY, DC_VARIANT_FLAT), the paths above
+    int key(int variant) const { return variant | (taps ? 4 : 0) | (fast ? 8 : 0) | (rest ? 16 : 0); }
 };
 
 // A context and in-order profiling queue on one device, with the embedded programs built once.

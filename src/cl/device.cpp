@@ -161,11 +161,10 @@ cl::Program& ComputeDevice::shadingProgram(int variant, const ShadingPaths& path
     if (variant < 0 || variant > 3)
         throw Error(ErrorKind::Usage,
                     fmt::format("shading program: variant {} is not an albedo-only and flat combination", variant));
-    const int key = variant | paths.bits() << 2;
     LazyProgram* lazy = nullptr;
     {
         std::lock_guard lock(programs_mutex_);
-        lazy = &shading_programs_[key];  // std::map: the entry stays where it is as others are added
+        lazy = &shading_programs_[paths.key(variant)];  // std::map: the entry stays where it is as others are added
     }
     return buildOnce(*lazy, fmt::format("{} -DDC_SHADING_PROGRAM -DDC_SHADE_VARIANT={} -DDC_PATH_TAPS={:d} "
                                         "-DDC_PATH_FAST={:d} -DDC_PATH_REST={:d}",

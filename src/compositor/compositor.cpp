@@ -387,7 +387,6 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 e_fill;
             const cl::Buffer& depth = s.depth.device();
             const cl::Buffer& position = s.position.device();
-            const bool shading_program = params.filter_taps > 0 || params.rest_decals;  // not the point program's
             if (!s.kernels) s.kernels.emplace(device_.program());
             CompositorKernels& k = *s.kernels;
             if (binned) {
@@ -466,10 +465,12 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             const bool flat = std::all_of(s.scene.decals.begin(), s.scene.decals.end(), [](const Decal& d) {
                 return d.kind == DecalKind::Box || d.kind == DecalKind::Frustum;
             });
+            // a frame without a filter or texture-space decals takes no path: the point program's kernel
+            const ShadingPaths paths = shadingPaths(params);
             CompositorKernels::Shade& shade =
                 k.shading((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0) |
-                              (shading_program ? 0 : DC_VARIANT_POINT),
-                          shadingPaths(params), device_);
+                              (paths.any() ? 0 : DC_VARIANT_POINT),
+                          paths, device_);
             // Binned, one work-group per screen tile: its work-items walk the same decal list. Unbinned
             // the same groups: PoCL keeps a work-group's private variables on its thread's stack, and
             // the groups it picks itself for a whole frame (40 x 78) overflowed it.

@@ -6,10 +6,10 @@ namespace decalcomp {
 
 namespace {
 
-// The point shading kernels in DC_VARIANT_x bit order; the shading programs' keys take the bits
-// above them for the paths.
+// The point shading kernels in DC_VARIANT_x bit order; ShadingPaths::key takes the two bits below
+// DC_VARIANT_POINT for the variant.
 static_assert(DC_VARIANT_ALBEDO_ONLY == 1 && DC_VARIANT_FLAT == 2 && DC_VARIANT_POINT == 4,
-              "point_shade_ is indexed by the variant bits, and paths are keyed from bit 2");
+              "point_shade_ is indexed by the variant bits, and ShadingPaths::key keeps the lower two");
 
 }  // namespace
 
@@ -34,10 +34,9 @@ CompositorKernels::CompositorKernels(const cl::Program& program)
 
 CompositorKernels::Shade& CompositorKernels::shading(int variant, const ShadingPaths& paths, ComputeDevice& device) {
     if (variant & DC_VARIANT_POINT) return point_shade_.at(std::size_t(variant & ~DC_VARIANT_POINT));
-    const int key = variant | paths.bits() << 2;
-    auto found = shade_.find(key);
+    auto found = shade_.find(paths.key(variant));
     if (found == shade_.end())
-        found = shade_.emplace(key, Shade(device.shadingProgram(variant, paths), "dc_shade")).first;
+        found = shade_.emplace(paths.key(variant), Shade(device.shadingProgram(variant, paths), "dc_shade")).first;
     return found->second;
 }
 

@@ -60,7 +60,7 @@ struct CompositorKernels {
 
 private:
     std::array<Shade, 4> point_shade_;  // by the variant's other bits
-    std::map<int, Shade> shade_;        // by variant and paths
+    std::map<int, Shade> shade_;        // by ShadingPaths::key
 };
 
 }  // namespace decalcomp
