@@ -286,5 +286,23 @@ TEST(BatchProgressText, LinesAndBar) {
     EXPECT_TRUE(quiet.str().empty());
 }
 
+// A slow kernel build's notice goes above the bar, which the next frame draws again.
+TEST(BatchProgressPrinter, SlowBuildNoticeClearsTheBarAndIsItsOwnLine) {
+    std::ostringstream bar;
+    ProgressPrinter printer(bar, ProgressStyle::Bar);
+    printer.frameFinished(FrameResult{1, FrameStatus::Written, "o.0001.exr", "", std::nullopt},
+                          BatchProgress{2, 1, 0, 0, 0.5});
+    const std::size_t drawn = bar.str().size();
+    printer.slowBuild("GPU: still compiling");
+    const std::string after = bar.str().substr(drawn);
+    EXPECT_EQ(after.front(), '\r');
+    EXPECT_NE(after.find("\rdecalcomp: note: GPU: still compiling\n"), std::string::npos) << after;
+
+    std::ostringstream quiet;
+    ProgressPrinter quietPrinter(quiet, ProgressStyle::Quiet);
+    quietPrinter.slowBuild("GPU: still compiling");
+    EXPECT_TRUE(quiet.str().empty());
+}
+
 }  // namespace
 }  // namespace decalcomp

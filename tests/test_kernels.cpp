@@ -3,8 +3,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <cfloat>
+#include <chrono>
 #include <cmath>
 #include <cstring>
+#include <mutex>
 #include <random>
 #include <thread>
 
@@ -152,6 +154,36 @@ TEST(Kernels, ThreadsAskingForOneShadingProgramShareIt) {
     other.join();
     EXPECT_NE(built[0], nullptr);
     EXPECT_EQ(built[0], built[1]);
+}
+
+// A build still running after the notice's delay says so once, naming the device and the
+// program; a build that finishes first says nothing, and does not wait out the delay.
+TEST(Kernels, ABuildRunningLongSaysSoOnce) {
+    std::mutex mutex;
+    std::vector<std::string> notices;
+    const auto collect = [&](const std::string& m) {
+        const std::lock_guard lock(mutex);
+        notices.push_back(m);
+    };
+    ComputeDevice device("cpu");
+    device.setSlowBuildNotice(std::chrono::milliseconds(0), collect);
+    device.program();
+    device.program();  // built: no second build, no second notice
+    ASSERT_EQ(notices.size(), 1u);
+    EXPECT_NE(notices[0].find(device.info().name + ": still compiling the OpenCL kernels for binning and "
+                                                   "point-sampled shading"),
+              std::string::npos)
+        << notices[0];
+    device.shadingProgram(0, ShadingPaths{true, false, false});
+    ASSERT_EQ(notices.size(), 2u);
+    EXPECT_NE(notices[1].find("shading with the pixel filter's taps"), std::string::npos) << notices[1];
+
+    ComputeDevice patient("cpu");
+    patient.setSlowBuildNotice(std::chrono::hours(1), collect);
+    const auto start = std::chrono::steady_clock::now();
+    patient.program();
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::minutes(5));
+    EXPECT_EQ(notices.size(), 2u);
 }
 
 // One compositor, a point-sampled frame, then a filtered one (which needs a shading program it

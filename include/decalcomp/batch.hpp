@@ -114,6 +114,9 @@ public:
     virtual void started(const BatchReport&) {}
     virtual void frameFinished(const FrameResult&, const BatchProgress&) {}
     virtual void finished(const BatchReport&) {}
+    // From a thread of a device's, while a kernel build runs longer than kSlowBuildNoticeAfter
+    // (ComputeDevice::setSlowBuildNotice): the line to show.
+    virtual void slowBuild(const std::string&) {}
 };
 
 // Runs the batch: scene, textures and kernels are set up once; one thread reads (frame N+1), the

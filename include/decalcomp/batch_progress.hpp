@@ -1,6 +1,7 @@
 #pragma once
 // Progress of a batch on a terminal or in a log: a redrawn bar, or one line per frame.
 #include <iosfwd>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -18,8 +19,10 @@ public:
     void started(const BatchReport& report) override;
     void frameFinished(const FrameResult& result, const BatchProgress& progress) override;
     void finished(const BatchReport& report) override;
+    void slowBuild(const std::string& message) override;  // a line above the bar
 
 private:
+    std::mutex out_mutex_;  // slowBuild comes from a device's thread
     std::ostream& out_;
     ProgressStyle style_;
     double last_draw_s_ = -1.0;

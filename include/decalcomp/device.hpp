@@ -2,6 +2,8 @@
 // OpenCL device selection and the built decalcomp program.
 #include <CL/opencl.hpp>
 
+#include <chrono>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <string>
@@ -64,8 +66,15 @@ public:
     // program; a frame needs one variant and two or three paths.
     cl::Program& shadingProgram(int variant, const ShadingPaths& paths);
 
+    // Calls `notice` (from a thread of its own, while the build goes on) when a program's build is
+    // still running `after` it began, with a line naming the device and the program: a cold build
+    // on NVIDIA's driver has taken minutes, and a run that says nothing meanwhile looks hung. Set
+    // it before the first composite; an empty notice says nothing.
+    using BuildNotice = std::function<void(const std::string& message)>;
+    void setSlowBuildNotice(std::chrono::milliseconds after, BuildNotice notice);
+
 private:
-    cl::Program build(const std::string& options);
+    cl::Program build(const std::string& options, const std::string& what);
 
     DeviceInfo info_;
     cl::Context context_;
@@ -76,13 +85,18 @@ private:
         std::mutex building;
         cl::Program program;  // null until built
     };
-    cl::Program& buildOnce(LazyProgram& lazy, const std::string& options);
+    cl::Program& buildOnce(LazyProgram& lazy, const std::string& options, const std::string& what);
 
     std::mutex programs_mutex_;  // over the map
     LazyProgram point_program_;
     std::map<int, LazyProgram> shading_programs_;  // by variant and paths
     bool profiling_ = true;
+    std::chrono::milliseconds slow_build_after_{0};
+    BuildNotice slow_build_notice_;
 };
+
+// How long the command line lets a kernel build run before it says that it is building.
+inline constexpr std::chrono::seconds kSlowBuildNoticeAfter{10};
 
 // The program source handed to the OpenCL compiler: every kernels/*.cl with its includes resolved
 // (each header once, `#line` markers naming kernels/ files), assembled at build time.

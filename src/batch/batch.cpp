@@ -468,11 +468,13 @@ BatchTimings Pipeline::timings() const {
 }
 
 // The devices --device selects, with a compositor per worker each.
-std::vector<DeviceWorkers> setUpDevices(const BatchRequest& request, const DecalScene& scene, BatchReport& report) {
+std::vector<DeviceWorkers> setUpDevices(const BatchRequest& request, const DecalScene& scene, BatchReport& report,
+                                        BatchObserver& watch) {
     std::vector<DeviceWorkers> devices;
     for (DeviceInfo& info : selectDevices(request.device)) {
         DeviceWorkers& d = devices.emplace_back();
         d.device = std::make_unique<ComputeDevice>(std::move(info));
+        d.device->setSlowBuildNotice(kSlowBuildNoticeAfter, [&watch](const std::string& m) { watch.slowBuild(m); });
         report.devices.push_back(d.device->info().name);
         for (int w = 0; w < std::max(1, request.composite_workers); ++w) {
             d.compositors.push_back(std::make_unique<Compositor>(*d.device));
@@ -536,7 +538,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     std::vector<DeviceWorkers> devices;
     if (!request.io_only) {
         scene = loadScene(request.scene, SceneOptions{request.ocio_config});
-        if (!plan.frames.empty()) devices = setUpDevices(request, scene, report);
+        if (!plan.frames.empty()) devices = setUpDevices(request, scene, report, watch);
     }
     // After the scene: decoding its EXR textures through OpenImageIO may change the global count.
     Imf::setGlobalThreadCount(request.exr_threads > 0 ? request.exr_threads

@@ -47,6 +47,7 @@ ProgressPrinter::ProgressPrinter(std::ostream& out, ProgressStyle style) : out_(
 
 void ProgressPrinter::started(const BatchReport& report) {
     if (style_ == ProgressStyle::Quiet) return;
+    const std::lock_guard lock(out_mutex_);
     const BatchPlan& plan = report.plan;
     std::string shard;
     if (plan.shard.count > 1)
@@ -57,6 +58,14 @@ void ProgressPrinter::started(const BatchReport& report) {
                                                : fmt::format("{}", fmt::join(report.devices, ", ")),
                         report.camera_source)
          << std::flush;
+}
+
+void ProgressPrinter::slowBuild(const std::string& message) {
+    if (style_ == ProgressStyle::Quiet) return;
+    const std::lock_guard lock(out_mutex_);
+    if (last_width_ > 0) out_ << '\r' << std::string(last_width_, ' ') << '\r';  // the next frame redraws the bar
+    last_width_ = 0;
+    out_ << "decalcomp: note: " << message << '\n' << std::flush;
 }
 
 void ProgressPrinter::drawBar(const BatchProgress& p, bool force) {
@@ -74,6 +83,7 @@ void ProgressPrinter::drawBar(const BatchProgress& p, bool force) {
 
 void ProgressPrinter::frameFinished(const FrameResult& r, const BatchProgress& p) {
     if (style_ == ProgressStyle::Quiet) return;
+    const std::lock_guard lock(out_mutex_);
     std::string line;
     switch (r.status) {
         case FrameStatus::Written:
@@ -101,6 +111,7 @@ void ProgressPrinter::frameFinished(const FrameResult& r, const BatchProgress& p
 
 void ProgressPrinter::finished(const BatchReport& report) {
     if (style_ == ProgressStyle::Quiet) return;
+    const std::lock_guard lock(out_mutex_);
     const BatchProgress& p = report.progress;
     if (style_ == ProgressStyle::Bar && last_width_ > 0) out_ << '\n';
     std::string stop;

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "build_watch.hpp"
 #include "decalcomp/error.hpp"
 
 namespace decalcomp {
@@ -147,14 +148,20 @@ ComputeDevice::ComputeDevice(DeviceInfo info) : info_(std::move(info)) {
     }
 }
 
-cl::Program& ComputeDevice::buildOnce(LazyProgram& lazy, const std::string& options) {
+cl::Program& ComputeDevice::buildOnce(LazyProgram& lazy, const std::string& options, const std::string& what) {
     std::lock_guard lock(lazy.building);
-    if (!lazy.program()) lazy.program = build(options);  // one that throws is tried again next time
+    if (!lazy.program()) lazy.program = build(options, what);  // one that throws is tried again next time
     return lazy.program;
 }
 
+void ComputeDevice::setSlowBuildNotice(std::chrono::milliseconds after, BuildNotice notice) {
+    slow_build_after_ = after;
+    slow_build_notice_ = std::move(notice);
+}
+
 cl::Program& ComputeDevice::program() {
-    return buildOnce(point_program_, buildOptions() + " -DDC_POINT_SHADING_ONLY");  // (kernels/shading.cl)
+    return buildOnce(point_program_, buildOptions() + " -DDC_POINT_SHADING_ONLY",  // (kernels/shading.cl)
+                     "binning and point-sampled shading");
 }
 
 cl::Program& ComputeDevice::shadingProgram(int variant, const ShadingPaths& paths) {
@@ -166,12 +173,23 @@ cl::Program& ComputeDevice::shadingProgram(int variant, const ShadingPaths& path
         std::lock_guard lock(programs_mutex_);
         lazy = &shading_programs_[paths.key(variant)];  // std::map: the entry stays where it is as others are added
     }
-    return buildOnce(*lazy, fmt::format("{} -DDC_SHADING_PROGRAM -DDC_SHADE_VARIANT={} -DDC_PATH_TAPS={:d} "
-                                        "-DDC_PATH_FAST={:d} -DDC_PATH_REST={:d}",
-                                        buildOptions(), variant, paths.taps, paths.fast, paths.rest));
+    std::string what;
+    if (paths.taps) what = "the pixel filter's taps";
+    if (paths.fast) what += fmt::format("{}the pixel filter in closed form", what.empty() ? "" : ", ");
+    if (paths.rest) what += fmt::format("{}texture-space decals", what.empty() ? "" : ", ");
+    return buildOnce(*lazy,
+                     fmt::format("{} -DDC_SHADING_PROGRAM -DDC_SHADE_VARIANT={} -DDC_PATH_TAPS={:d} "
+                                 "-DDC_PATH_FAST={:d} -DDC_PATH_REST={:d}",
+                                 buildOptions(), variant, paths.taps, paths.fast, paths.rest),
+                     "shading with " + (what.empty() ? std::string("no path") : what));
 }
 
-cl::Program ComputeDevice::build(const std::string& options) {
+cl::Program ComputeDevice::build(const std::string& options, const std::string& what) {
+    const BuildWatch watch(
+        slow_build_after_, slow_build_notice_,
+        fmt::format("{}: still compiling the OpenCL kernels for {} after {} s; drivers "
+                    "usually keep what they build, so later runs skip this",
+                    info_.name, what, std::chrono::duration_cast<std::chrono::seconds>(slow_build_after_).count()));
     cl::Program program;
     try {
         program = cl::Program(context_, programSource());

@@ -74,6 +74,9 @@ Command addCompositeCommand(CLI::App& app) {
         const DecalScene scene = loadScene(flags->scene, flags->scene_options);
         frame.prepare(scene);
         ComputeDevice device(flags->device);
+        if (!flags->quiet)
+            device.setSlowBuildNotice(kSlowBuildNoticeAfter,
+                                      [](const std::string& m) { std::cerr << "decalcomp: note: " + m + "\n"; });
         Compositor compositor(device);
         compositor.setScene(scene);
         frame.composite(compositor);
