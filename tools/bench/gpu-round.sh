@@ -9,7 +9,7 @@
 #   git reset -q && sed -i '\|^/data/$|d' .git/info/exclude            # after
 # The first run builds the kernels on NVIDIA: the point-sampled program first (about 40 s on an
 # H100), the filter's shading programs (one kernel each, docs/decisions.md) only in the last step,
-# in the first case of each filter (its wall time in run.log). Results land in $OUT (the device
+# in the first case of each filter (the bench says how long that warm-up took). Results land in $OUT (the device
 # tool's output folder) as machine.txt, run.log (every step's report) and results.csv (every step's CSV
 # rows, each led by the step's name); each step appends as it finishes, so a call that runs out of
 # time still brings back the steps before. The tool brings back at most eight files a call.

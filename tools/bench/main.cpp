@@ -121,8 +121,14 @@ Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camer
     std::optional<BeautyPlanes> work_beauty;
     if (beauty) work_beauty = *beauty;
 
-    // Warm-up: first launches, allocations, lazy compilation in some drivers.
+    // Warm-up: first launches, allocations, lazy compilation in some drivers, and a filtered frame's
+    // shading program on first use (its cold build is a figure of its own: said when it is long).
+    const auto warm0 = std::chrono::steady_clock::now();
     CompositeStats warm = compositor.composite(work, camera, options, work_beauty ? &*work_beauty : nullptr);
+    const double warm_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - warm0).count();
+    if (warm_s > 1.0)
+        fmt::print(stderr, "{}x{}, {} decals: the warm-up composite took {:.1f} s (a program's build on first use)\n",
+                   frame.width, frame.height, decals, warm_s);
     r.tiles = warm.tiles;
     const int expected_tiles =
         ((frame.width + kTileSize - 1) / kTileSize) * ((frame.height + kTileSize - 1) / kTileSize);
