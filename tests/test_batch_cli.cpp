@@ -171,6 +171,19 @@ TEST(BatchCli, ShardsWriteEveryFrameExactlyOnce) {
     }
 }
 
+// A batch says it when a device's kernel build runs long, once per program, beside its progress.
+TEST(BatchCli, KernelBuildsRunningLongSaySo) {
+    Sequence s({1, 2, 3});
+    const auto r = test::runCommand("DECALCOMP_BUILD_NOTICE_AFTER=0 " + shellQuote(DECALCOMP_CLI) + " batch " +
+                                    s.args() + " --frames 1-3 --progress lines");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(test::occurrences(r.output, "decalcomp: note: "), 1u) << r.output;
+    EXPECT_NE(r.output.find("still compiling the OpenCL kernels for binning and point-sampled shading"),
+              std::string::npos)
+        << r.output;
+    EXPECT_EQ(writtenFrames(r.output).size(), 3u) << r.output;
+}
+
 TEST(BatchCli, SlurmArrayVariablesChooseTheShard) {
     test::ScratchDir dir;
     const std::string args = "batch " + shellQuote(dir.file("f.####.exr")) + " -o " + shellQuote(dir.file("o.####.exr")) +

@@ -157,6 +157,31 @@ TEST(Cli, CompositeWritesExrAndPreview) {
     EXPECT_EQ(filesIn(dir.path()), 2u);
 }
 
+// DECALCOMP_BUILD_NOTICE_AFTER=0 says it at every kernel build, on stderr (not with --quiet); a
+// value that is no number of seconds is a usage error naming it.
+TEST(Cli, KernelBuildsRunningLongSaySo) {
+    test::ScratchDir dir;
+    const std::string args = shellQuote(DECALCOMP_CLI) + " composite " + blender("gbuffer.exr") + " --decals " +
+                             blender("scene.json") + " --camera " + blender("camera.json") + " --device cpu -o " +
+                             shellQuote(dir.file("o.exr"));
+    auto r = test::runCommand("DECALCOMP_BUILD_NOTICE_AFTER=0 " + args);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(test::occurrences(r.output, "decalcomp: note: "), 1u) << r.output;
+    EXPECT_NE(r.output.find(": still compiling the OpenCL kernels for binning and point-sampled shading after 0 s"),
+              std::string::npos)
+        << r.output;
+    r = test::runCommand("DECALCOMP_BUILD_NOTICE_AFTER=0 " + args + " -q");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(r.output.find("note:"), std::string::npos) << r.output;
+    r = test::runCommand("DECALCOMP_BUILD_NOTICE_AFTER=3600 " + args);  // a build that does not run long: silent
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(r.output.find("note:"), std::string::npos) << r.output;
+    r = test::runCommand("DECALCOMP_BUILD_NOTICE_AFTER=soon " + args);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("DECALCOMP_BUILD_NOTICE_AFTER=soon: not a number of seconds"), std::string::npos)
+        << r.output;
+}
+
 TEST(Cli, UsageErrorsExitTwo) {
     EXPECT_EQ(test::runCli("").exit_code, 2);
     EXPECT_EQ(test::runCli("composite").exit_code, 2);

@@ -114,7 +114,7 @@ public:
     virtual void started(const BatchReport&) {}
     virtual void frameFinished(const FrameResult&, const BatchProgress&) {}
     virtual void finished(const BatchReport&) {}
-    // From a thread of a device's, while a kernel build runs longer than kSlowBuildNoticeAfter
+    // From a thread of a device's, while a kernel build runs longer than slowBuildNoticeAfter()
     // (ComputeDevice::setSlowBuildNotice): the line to show.
     virtual void slowBuild(const std::string&) {}
 };

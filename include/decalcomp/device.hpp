@@ -95,8 +95,10 @@ private:
     BuildNotice slow_build_notice_;
 };
 
-// How long the command line lets a kernel build run before it says that it is building.
-inline constexpr std::chrono::seconds kSlowBuildNoticeAfter{10};
+// How long the command line, batches and the Python module let a kernel build run before they say
+// that it is building: $DECALCOMP_BUILD_NOTICE_AFTER seconds (0: at every build), default 10.
+// Throws Error(Usage) for a value that is not a number of seconds.
+std::chrono::milliseconds slowBuildNoticeAfter();
 
 // The program source handed to the OpenCL compiler: every kernels/*.cl with its includes resolved
 // (each header once, `#line` markers naming kernels/ files), assembled at build time.

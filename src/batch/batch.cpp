@@ -474,7 +474,7 @@ std::vector<DeviceWorkers> setUpDevices(const BatchRequest& request, const Decal
     for (DeviceInfo& info : selectDevices(request.device)) {
         DeviceWorkers& d = devices.emplace_back();
         d.device = std::make_unique<ComputeDevice>(std::move(info));
-        d.device->setSlowBuildNotice(kSlowBuildNoticeAfter, [&watch](const std::string& m) { watch.slowBuild(m); });
+        d.device->setSlowBuildNotice(slowBuildNoticeAfter(), [&watch](const std::string& m) { watch.slowBuild(m); });
         report.devices.push_back(d.device->info().name);
         for (int w = 0; w < std::max(1, request.composite_workers); ++w) {
             d.compositors.push_back(std::make_unique<Compositor>(*d.device));

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 
@@ -154,6 +155,19 @@ cl::Program& ComputeDevice::buildOnce(LazyProgram& lazy, const std::string& opti
     return lazy.program;
 }
 
+std::chrono::milliseconds slowBuildNoticeAfter() {
+    constexpr const char* kVariable = "DECALCOMP_BUILD_NOTICE_AFTER";
+    const char* setting = std::getenv(kVariable);
+    if (!setting || !*setting) return std::chrono::seconds(10);
+    char* end = nullptr;
+    const double seconds = std::strtod(setting, &end);
+    if (*end != '\0' || !(seconds >= 0.0) || seconds > 1e9)
+        throw Error(ErrorKind::Usage, fmt::format("{}={}: not a number of seconds; e.g. {}=30, or 0 to say it at "
+                                                  "every kernel build",
+                                                  kVariable, setting, kVariable));
+    return std::chrono::milliseconds(std::llround(seconds * 1000.0));
+}
+
 void ComputeDevice::setSlowBuildNotice(std::chrono::milliseconds after, BuildNotice notice) {
     slow_build_after_ = after;
     slow_build_notice_ = std::move(notice);
@@ -185,11 +199,10 @@ cl::Program& ComputeDevice::shadingProgram(int variant, const ShadingPaths& path
 }
 
 cl::Program ComputeDevice::build(const std::string& options, const std::string& what) {
-    const BuildWatch watch(
-        slow_build_after_, slow_build_notice_,
-        fmt::format("{}: still compiling the OpenCL kernels for {} after {} s; drivers "
-                    "usually keep what they build, so later runs skip this",
-                    info_.name, what, std::chrono::duration_cast<std::chrono::seconds>(slow_build_after_).count()));
+    const BuildWatch watch(slow_build_after_, slow_build_notice_,
+                           fmt::format("{}: still compiling the OpenCL kernels for {} after {:g} s; drivers "
+                                       "usually keep what they build, so later runs skip this",
+                                       info_.name, what, std::chrono::duration<double>(slow_build_after_).count()));
     cl::Program program;
     try {
         program = cl::Program(context_, programSource());

@@ -32,7 +32,8 @@ py::dict frameResultDict(const FrameResult& r) {
     return d;
 }
 
-// Calls progress(frame_result_dict) on runBatch's thread, holding the GIL only for the call.
+// Calls progress(frame_result_dict), when given, on runBatch's thread, holding the GIL only for the
+// call; a long kernel build's note goes to sys.stderr.
 class ProgressCallback : public BatchObserver {
 public:
     explicit ProgressCallback(py::object callback) : callback_(std::move(callback)) {}
@@ -41,9 +42,11 @@ public:
         callback_ = py::object();
     }
     void frameFinished(const FrameResult& result, const BatchProgress&) override {
+        if (!callback_) return;
         py::gil_scoped_acquire acquire;
         callback_(frameResultDict(result));  // an exception raised here stops the batch
     }
+    void slowBuild(const std::string& message) override { writeNote(message); }
 
 private:
     py::object callback_;
@@ -91,8 +94,7 @@ py::dict batch(const std::string& input, const std::string& output, const std::s
         if (text != "auto" && !r.pixel_filter_fast) r.pixel_filter = parsePixelFilter(text, "pixel_filter");
     }
 
-    std::unique_ptr<ProgressCallback> progress;
-    if (auto callback = argument(kwargs, "progress")) progress = std::make_unique<ProgressCallback>(callback);
+    auto progress = std::make_unique<ProgressCallback>(argument(kwargs, "progress"));
     BatchReport report;
     {
         py::gil_scoped_release release;

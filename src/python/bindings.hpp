@@ -25,6 +25,10 @@ void bindBake(py::module_& m);        // bake()
 // A Camera, a (world_to_camera, projection) pair of 4x4 arrays, or a camera JSON path.
 Camera cameraFrom(const py::object& value);
 
+// "decalcomp: note: MESSAGE" on sys.stderr, from any thread (it takes the GIL): a device's notice
+// of a long kernel build (ComputeDevice::setSlowBuildNotice), as the CLI prints it (devices.cpp).
+void writeNote(const std::string& message);
+
 // Reports as dicts of plain Python values (report.cpp).
 py::dict statsDict(const CompositeStats& stats);
 py::dict frameReportDict(const FrameReport& report);

@@ -72,6 +72,7 @@ class PyCompositor {
 public:
     PyCompositor(const std::string& device, std::shared_ptr<const DecalScene> scene)
         : device_(std::make_unique<ComputeDevice>(device)), compositor_(std::make_unique<Compositor>(*device_)) {
+        device_->setSlowBuildNotice(slowBuildNoticeAfter(), writeNote);  // every call releases the GIL
         if (scene) setScene(std::move(scene));
     }
 

@@ -7,6 +7,11 @@
 
 namespace decalcomp::python {
 
+void writeNote(const std::string& message) {
+    py::gil_scoped_acquire acquire;
+    py::module_::import("sys").attr("stderr").attr("write")("decalcomp: note: " + message + "\n");
+}
+
 void bindDevices(py::module_& m) {
     py::class_<DeviceInfo>(m, "Device", "An OpenCL device (pass its index or part of its name as `device=`).")
         .def_readonly("index", &DeviceInfo::index)

@@ -82,3 +82,13 @@ def test_unknown_keyword_is_a_type_error(sequence, tmp_path):
     with pytest.raises(TypeError, match="keepgoing"):
         decalcomp.batch(str(sequence / "frame.####.exr"), str(tmp_path / "o.####.exr"), str(SAMPLE / "scene.json"),
                         keepgoing=True)
+
+
+def test_a_long_kernel_build_says_so_on_stderr(monkeypatch, capsys, sequence, tmp_path):
+    monkeypatch.setenv("DECALCOMP_BUILD_NOTICE_AFTER", "0")  # every build counts as long
+    report = decalcomp.batch(str(sequence / "frame.####.exr"), str(tmp_path / "out.####.exr"),
+                             str(SAMPLE / "scene.json"), camera=str(SAMPLE / "camera.json"), device="cpu")
+    assert report["written"] == 3
+    err = capsys.readouterr().err
+    assert err.count("decalcomp: note: ") == 1, err
+    assert "still compiling the OpenCL kernels for binning and point-sampled shading" in err

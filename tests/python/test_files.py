@@ -89,3 +89,16 @@ def test_pixel_filter_auto_fast_is_the_clis(cli, compositor, tmp_path):
     run_cli(cli, "composite", aa / "gbuffer.exr", "--decals", aa / "scene.json", "--camera", aa / "camera.json",
             "--device", "cpu", "--pixel-filter", "blackman-harris:3:fast", "-o", tmp_path / "cli.exr", "-q")
     assert (tmp_path / "py.exr").read_bytes() == (tmp_path / "cli.exr").read_bytes()
+
+
+def test_a_long_kernel_build_says_so_on_stderr(monkeypatch, capsys, tmp_path):
+    # DECALCOMP_BUILD_NOTICE_AFTER=0: every build counts as long; a fresh device builds its programs
+    monkeypatch.setenv("DECALCOMP_BUILD_NOTICE_AFTER", "0")
+    fresh = decalcomp.Compositor("cpu", decalcomp.Scene.load(str(SAMPLE / "scene.json")))
+    fresh.composite_files(str(SAMPLE / "gbuffer.exr"), str(tmp_path / "out.exr"), camera=str(SAMPLE / "camera.json"))
+    err = capsys.readouterr().err
+    assert err.count("decalcomp: note: ") == 1, err
+    assert "still compiling the OpenCL kernels for binning and point-sampled shading after 0 s" in err
+    monkeypatch.setenv("DECALCOMP_BUILD_NOTICE_AFTER", "soon")
+    with pytest.raises(decalcomp.UsageError, match="DECALCOMP_BUILD_NOTICE_AFTER=soon: not a number of seconds"):
+        decalcomp.Compositor("cpu")

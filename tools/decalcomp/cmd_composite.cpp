@@ -73,9 +73,10 @@ Command addCompositeCommand(CLI::App& app) {
         Frame frame(flags->sources, flags->targets, flags->options);
         const DecalScene scene = loadScene(flags->scene, flags->scene_options);
         frame.prepare(scene);
+        const std::chrono::milliseconds notice_after = slowBuildNoticeAfter();
         ComputeDevice device(flags->device);
         if (!flags->quiet)
-            device.setSlowBuildNotice(kSlowBuildNoticeAfter,
+            device.setSlowBuildNotice(notice_after,
                                       [](const std::string& m) { std::cerr << "decalcomp: note: " + m + "\n"; });
         Compositor compositor(device);
         compositor.setScene(scene);
