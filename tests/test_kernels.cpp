@@ -8,6 +8,7 @@
 #include <cstring>
 #include <mutex>
 #include <random>
+#include <stdexcept>
 #include <thread>
 
 #include "decalcomp/compositor.hpp"
@@ -177,6 +178,11 @@ TEST(Kernels, ABuildRunningLongSaysSoOnce) {
     device.shadingProgram(0, ShadingPaths{true, false, false});
     ASSERT_EQ(notices.size(), 2u);
     EXPECT_NE(notices[1].find("shading with the pixel filter's taps"), std::string::npos) << notices[1];
+
+    ComputeDevice throwing("cpu");  // a notice that throws on its thread must not end the process
+    throwing.setSlowBuildNotice(std::chrono::milliseconds(0),
+                                [](const std::string&) { throw std::runtime_error("no stream"); });
+    EXPECT_NE(throwing.program()(), nullptr);
 
     ComputeDevice patient("cpu");
     patient.setSlowBuildNotice(std::chrono::hours(1), collect);

@@ -10,7 +10,12 @@ BuildWatch::BuildWatch(std::chrono::milliseconds after, std::function<void(const
             std::unique_lock lock(mutex_);
             if (finished_.wait_for(lock, after, [this] { return done_; })) return;
         }
-        notice(message);  // outside the lock: the destructor waits for it, not the other way round
+        // Outside the lock: the destructor waits for it, not the other way round. A notice that
+        // throws says nothing; on this thread it would end the process.
+        try {
+            notice(message);
+        } catch (...) {
+        }
     });
 }
 

@@ -12,6 +12,7 @@ namespace decalcomp {
 
 // Calls `notice` with `message` from a thread of its own when the watch is still alive `after`
 // its construction; never when it is destroyed before. Destroying it does not wait for `after`.
+// An exception from `notice` is swallowed: a note must not end the process.
 class BuildWatch {
 public:
     BuildWatch(std::chrono::milliseconds after, std::function<void(const std::string&)> notice, std::string message);

@@ -9,7 +9,11 @@ namespace decalcomp::python {
 
 void writeNote(const std::string& message) {
     py::gil_scoped_acquire acquire;
-    py::module_::import("sys").attr("stderr").attr("write")("decalcomp: note: " + message + "\n");
+    try {
+        const py::object err = py::module_::import("sys").attr("stderr");
+        if (!err.is_none()) err.attr("write")("decalcomp: note: " + message + "\n");  // None under pythonw
+    } catch (const py::error_already_set&) {  // a stream that cannot take it: the note is dropped
+    }
 }
 
 void bindDevices(py::module_& m) {
