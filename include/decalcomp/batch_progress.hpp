@@ -28,6 +28,7 @@ private:
     double last_draw_s_ = -1.0;
     std::size_t last_width_ = 0;
     void drawBar(const BatchProgress& progress, bool force);
+    void printLine(const std::string& line);  // a line of its own, above the bar where one is drawn
 };
 
 // "12.3 fps, 0:42 left" pieces, for the printer and tests.

@@ -470,11 +470,12 @@ BatchTimings Pipeline::timings() const {
 // The devices --device selects, with a compositor per worker each.
 std::vector<DeviceWorkers> setUpDevices(const BatchRequest& request, const DecalScene& scene, BatchReport& report,
                                         BatchObserver& watch) {
+    const std::chrono::milliseconds notice_after = slowBuildNoticeAfter();
     std::vector<DeviceWorkers> devices;
     for (DeviceInfo& info : selectDevices(request.device)) {
         DeviceWorkers& d = devices.emplace_back();
         d.device = std::make_unique<ComputeDevice>(std::move(info));
-        d.device->setSlowBuildNotice(slowBuildNoticeAfter(), [&watch](const std::string& m) { watch.slowBuild(m); });
+        d.device->setSlowBuildNotice(notice_after, [&watch](const std::string& m) { watch.slowBuild(m); });
         report.devices.push_back(d.device->info().name);
         for (int w = 0; w < std::max(1, request.composite_workers); ++w) {
             d.compositors.push_back(std::make_unique<Compositor>(*d.device));

@@ -60,12 +60,18 @@ void ProgressPrinter::started(const BatchReport& report) {
          << std::flush;
 }
 
+void ProgressPrinter::printLine(const std::string& line) {
+    if (style_ == ProgressStyle::Bar) {  // above the bar: clear it; the caller or the next frame redraws it
+        out_ << '\r' << std::string(last_width_, ' ') << '\r';
+        last_width_ = 0;
+    }
+    out_ << line << '\n' << std::flush;
+}
+
 void ProgressPrinter::slowBuild(const std::string& message) {
     if (style_ == ProgressStyle::Quiet) return;
     const std::lock_guard lock(out_mutex_);
-    if (last_width_ > 0) out_ << '\r' << std::string(last_width_, ' ') << '\r';  // the next frame redraws the bar
-    last_width_ = 0;
-    out_ << "decalcomp: note: " << message << '\n' << std::flush;
+    printLine("decalcomp: note: " + message);
 }
 
 void ProgressPrinter::drawBar(const BatchProgress& p, bool force) {
@@ -98,15 +104,8 @@ void ProgressPrinter::frameFinished(const FrameResult& r, const BatchProgress& p
             break;
         case FrameStatus::Failed: line = fmt::format("frame {} FAILED: {}", r.frame, r.message); break;
     }
-    if (style_ == ProgressStyle::Bar) {
-        if (!line.empty()) {  // above the bar: clear it, print, redraw
-            out_ << '\r' << std::string(last_width_, ' ') << '\r' << line << '\n';
-            last_width_ = 0;
-        }
-        drawBar(p, !line.empty() || p.finished() == p.total);
-    } else if (!line.empty()) {
-        out_ << line << '\n' << std::flush;
-    }
+    if (!line.empty()) printLine(line);
+    if (style_ == ProgressStyle::Bar) drawBar(p, !line.empty() || p.finished() == p.total);
 }
 
 void ProgressPrinter::finished(const BatchReport& report) {

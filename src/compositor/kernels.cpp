@@ -34,9 +34,10 @@ CompositorKernels::CompositorKernels(const cl::Program& program)
 
 CompositorKernels::Shade& CompositorKernels::shading(int variant, const ShadingPaths& paths, ComputeDevice& device) {
     if (variant & DC_VARIANT_POINT) return point_shade_.at(std::size_t(variant & ~DC_VARIANT_POINT));
-    auto found = shade_.find(paths.key(variant));
+    const int key = paths.key(variant);
+    auto found = shade_.find(key);
     if (found == shade_.end())
-        found = shade_.emplace(paths.key(variant), Shade(device.shadingProgram(variant, paths), "dc_shade")).first;
+        found = shade_.emplace(key, Shade(device.shadingProgram(variant, paths), "dc_shade")).first;
     return found->second;
 }
 
