@@ -176,10 +176,14 @@ TEST(Cli, KernelBuildsRunningLongSaySo) {
     r = test::runCommand("DECALCOMP_BUILD_NOTICE_AFTER=3600 " + args);  // a build that does not run long: silent
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_EQ(r.output.find("note:"), std::string::npos) << r.output;
-    r = test::runCommand("DECALCOMP_BUILD_NOTICE_AFTER=soon " + args);
+    test::ScratchDir refused;  // the bad value stops the run before anything is written
+    r = test::runCommand("DECALCOMP_BUILD_NOTICE_AFTER=soon " + shellQuote(DECALCOMP_CLI) + " composite " +
+                         blender("gbuffer.exr") + " --decals " + blender("scene.json") + " --camera " +
+                         blender("camera.json") + " --device cpu -o " + shellQuote(refused.file("o.exr")));
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("DECALCOMP_BUILD_NOTICE_AFTER=soon: not a number of seconds"), std::string::npos)
         << r.output;
+    EXPECT_EQ(filesIn(refused.path()), 0u) << "output or temporary files were left behind";
 }
 
 TEST(Cli, UsageErrorsExitTwo) {
