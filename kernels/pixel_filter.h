@@ -25,9 +25,6 @@ typedef struct {
 #define DC_TAPS_POINT 0
 #define DC_TAPS_PLANE 1
 #define DC_TAPS_SPLIT 2
-/* A pixel that dc_split_silhouette or dc_split_crease may split, left by a shading program's main
- * pass to its mixed pass (shading.cl dc_shade_mixed) */
-#define DC_TAPS_DEFERRED 3
 
 typedef struct {
     int mode;
@@ -416,26 +413,13 @@ inline void dc_split_crease(__constant const DcFrame* f, __global const float* d
     *t = s;
 }
 
-/* Whether dc_split_silhouette or dc_split_crease (as dc_taps calls them) may split the pixel: their
- * own first tests, which few pixels pass. Their window scans, inlined beside the decal loops, took a
- * GPU half of the closed form's time; warps of pixels that pass run them in a pass of their own
- * (docs/pixel-filter.md "Building the kernels"). */
-inline bool dc_mixed_candidate(__constant const DcFrame* f, __global const float4* original1, int has_normal, int x,
-                               int y, float3 p, float depth_step, const DcTaps* t) {
-    if (depth_step > DC_MIXED_DEPTH_JUMP * -p.z) return true;
-    if (!has_normal || t->mode != DC_TAPS_PLANE) return false;
-    const float len = length(original1[(size_t)y * f->width + x].xyz);
-    return len < DC_MIXED_NORMAL_LENGTH && len > 0.0f;
-}
-
 /* How pixel (x, y) at p with camera-space unit normal n is integrated (docs/pixel-filter.md
  * "Mixed pixels"): over its own tangent plane, also at silhouettes and creases (whose averaged
  * depth and normal make a plane between the surfaces), but point-sampled beside background and
- * at grazing angles. Without `split`, a pixel that a split may take comes back DC_TAPS_DEFERRED. */
+ * at grazing angles. */
 inline DcTaps dc_taps(__constant const DcFrame* f, __global const float* depth_plane,
                       __global const float4* position_plane, __global const float4* original0,
-                      __global const float4* original1, int has_normal, int x, int y, float3 p, float3 n,
-                      const int split) {
+                      __global const float4* original1, int has_normal, int x, int y, float3 p, float3 n) {
     DcTaps t;
     t.mode = DC_TAPS_POINT;
     /* the 4-neighbours' view depths (planar depth reads them without unprojecting): beside
@@ -450,10 +434,6 @@ inline DcTaps dc_taps(__constant const DcFrame* f, __global const float* depth_p
     }
     dc_pixel_rays(f, x, y, &t.rays);
     if (dc_tap_plane(f, &t.rays, p, n, &t.plane)) t.mode = DC_TAPS_PLANE;
-    if (!split) {
-        if (dc_mixed_candidate(f, original1, has_normal, x, y, p, depth_step, &t)) t.mode = DC_TAPS_DEFERRED;
-        return t;
-    }
     dc_split_silhouette(f, depth_plane, position_plane, original0, original1, has_normal, x, y, p, depth_step, &t);
     if (has_normal && t.mode == DC_TAPS_PLANE)
         dc_split_crease(f, depth_plane, position_plane, original0, original1, x, y, p, &t);

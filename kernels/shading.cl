@@ -13,11 +13,6 @@
 #include "shared_types.h"
 #include "texture_sample.h"
 
-/* A shading program's two passes: the main pass shades every pixel but those a split between two
- * surfaces may take, which it lists for the mixed pass (dc_shade_mixed). */
-#define DC_PASS_MAIN 0
-#define DC_PASS_MIXED 1
-
 /* A build that names neither the point program nor a shading program's variant and paths (the
  * build-time checks) compiles every path. */
 #if !defined(DC_POINT_SHADING_ONLY) && !defined(DC_SHADE_VARIANT)
@@ -305,8 +300,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                                     __global const DcDecalBounds* decal_bounds, int binned, int begin, int end,
                                     __global const float* mask_weights, __global const uint* occlusion_maps,
                                     __global float* light, __global const float4* rest_points,
-                                    __global const float4* rest_frames, __global int* mixed_pixels,
-                                    const int variant, const int pass, int x, int y) {
+                                    __global const float4* rest_frames, const int variant, int x, int y) {
     const size_t i = (size_t)y * frame->width + x;
     const int attributes = frame->attributes;
     const bool has_group1 = (attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
@@ -360,7 +354,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
         /* The point program (device.cpp) holds the point kernels alone: none of the filter's or the
          * rest pose's code reaches its compiler, whose cold build that code slowed down (their
          * planes stay arguments, so both programs' kernels take the same ones). */
-        (void)original0, (void)original1, (void)rest_points, (void)rest_frames, (void)mixed_pixels, (void)pass;
+        (void)original0, (void)original1, (void)rest_points, (void)rest_frames;
         if (1) {
 #else
         /* A shading program (device.cpp) holds the paths its build names (DC_PATH_x): each inlines
@@ -370,12 +364,8 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
 #endif
         DcTaps taps = frame->filter_taps > 0 && has_normal
                                 ? dc_taps(frame, depth_plane, position_plane, original0, original1, frame->has_normal, x,
-                                          y, p, normal, pass == DC_PASS_MIXED)
+                                          y, p, normal)
                                 : dc_point_taps();
-        if (taps.mode == DC_TAPS_DEFERRED) { /* the mixed pass shades it */
-            mixed_pixels[1 + atomic_inc(mixed_pixels)] = (int)i;
-            return (float3)(0.0f);
-        }
         /* (a program of the rest pose's loop alone has no other branch: texture-space frames take it) */
         if (DC_PATH_TAPS + DC_PATH_FAST > 0 && taps.mode == DC_TAPS_POINT && !frame->rest_decals) {
 #endif
@@ -404,7 +394,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
             }
 #endif
 #if DC_PATH_TAPS || DC_PATH_FAST
-        } else if (pass == DC_PASS_MIXED && taps.mode == DC_TAPS_SPLIT && !frame->rest_decals) {
+        } else if (taps.mode == DC_TAPS_SPLIT && !frame->rest_decals) {
             s = dc_filter_stacked_split(frame, decals, tile_decals, binned, begin, end, &taps, has_normal, x, y,
                                         mask_weights, textures, texels, occlusion_maps, s, variant, &applied);
 #endif
@@ -416,7 +406,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                     s = dc_apply_rest_decal(frame, d, rest_points, rest_frames, x, y, normal, has_normal,
                                             taps.mode != DC_TAPS_POINT, dc_decal_weight(frame, d, mask_weights, x, y),
                                             textures, texels, s, variant, &applied);
-                else if (pass == DC_PASS_MIXED && taps.mode == DC_TAPS_SPLIT)
+                else if (taps.mode == DC_TAPS_SPLIT)
                     s = dc_filter_decal_split(frame, d, &taps, has_normal, dc_decal_weight(frame, d, mask_weights, x, y),
                                               textures, texels, occlusion_maps, s, variant, &applied);
                 else if (taps.mode != DC_TAPS_POINT) /* this decal alone over the taps */
@@ -454,20 +444,22 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
     return (float3)(0.0f);
 }
 
-/* Pixel (x, y) of the frame: its list (its tile's, binned; every decal, unbinned), then its
- * shading. `variant` (DC_VARIANT_x) and `pass` (DC_PASS_x) are literals in each kernel below, so the
- * lean kernels carry none of the code they exclude (fewer registers, faster loops:
- * docs/benchmarks.md). */
-inline void dc_shade_at(__constant const DcFrame* frame, __global const float* depth_plane,
-                        __global const float4* position_plane, __global float4* surface0, __global float4* surface1,
-                        __global float4* surface2, __global const float4* original0, __global const float4* original1,
-                        __global const DcDecal* decals, __global const DcTexture* textures,
-                        __global const float4* texels, __global const int* tile_offsets,
-                        __global const int* tile_decals, __global const DcDecalBounds* decal_bounds, int binned,
-                        int list_capacity, __global const float* mask_weights, __global const uint* occlusion_maps,
-                        __global float* beauty, __global float* light, __global const float4* rest_points,
-                        __global const float4* rest_frames, __global int* mixed_pixels, const int variant,
-                        const int pass, int x, int y) {
+/* One pixel. `variant` (DC_VARIANT_x) is a literal in each kernel below, so the lean kernels carry
+ * none of the code they exclude (fewer registers, faster loops: docs/benchmarks.md). */
+inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float* depth_plane,
+                           __global const float4* position_plane, __global float4* surface0,
+                           __global float4* surface1, __global float4* surface2,
+                           __global const float4* original0, __global const float4* original1,
+                           __global const DcDecal* decals, __global const DcTexture* textures,
+                           __global const float4* texels, __global const int* tile_offsets,
+                           __global const int* tile_decals, __global const DcDecalBounds* decal_bounds, int binned,
+                           int list_capacity,
+                           __global const float* mask_weights,
+                           __global const uint* occlusion_maps, __global float* beauty,
+                           __global float* light, __global const float4* rest_points,
+                           __global const float4* rest_frames, const int variant) {
+    const int x = get_global_id(0), y = get_global_id(1);
+    if (x >= frame->width || y >= frame->height) return;
     const size_t i = (size_t)y * frame->width + x;
     /* The surface planes are changed in place: pixels no decal reaches (background among them)
      * are neither read nor written, so they keep their samples bit for bit. (The beauty's change is
@@ -481,12 +473,11 @@ inline void dc_shade_at(__constant const DcFrame* frame, __global const float* d
     /* the tile's list before the pixel's point: tiles no decal reaches read nothing but it */
     if (begin >= end) return;
     /* Every pixel of a listed tile writes its beauty change, 0 where nothing changed: the host adds
-     * the changes of exactly those tiles (beauty_transfer.hpp), and the kernel never reads the beauty.
-     * (A pixel left to the mixed pass writes 0 here, then its change there.) */
+     * the changes of exactly those tiles (beauty_transfer.hpp), and the kernel never reads the beauty. */
     const float3 change = dc_shade_listed_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2,
                                                 original0, original1, decals, textures, texels, tile_decals,
                                                 decal_bounds, binned, begin, end, mask_weights, occlusion_maps, light,
-                                                rest_points, rest_frames, mixed_pixels, variant, pass, x, y);
+                                                rest_points, rest_frames, variant, x, y);
     if (frame->beauty) vstore3(change, i, beauty);
 }
 
@@ -498,17 +489,12 @@ inline void dc_shade_at(__constant const DcFrame* frame, __global const float* d
         __global const int *tile_offsets, __global const int *tile_decals,                                      \
         __global const DcDecalBounds *decal_bounds, int binned, int list_capacity,                              \
         __global const float *mask_weights, __global const uint *occlusion_maps, __global float *beauty,        \
-        __global float *light, __global const float4 *rest_points, __global const float4 *rest_frames,          \
-        __global int *mixed_pixels
-/* pixel (X, Y) by the variant and pass given */
-#define DC_SHADE_AT(VARIANT, PASS, X, Y)                                                                      \
-    dc_shade_at(frame, depth_plane, position_plane, surface0, surface1, surface2, original0, original1, decals,  \
-                textures, texels, tile_offsets, tile_decals, decal_bounds, binned, list_capacity, mask_weights,  \
-                occlusion_maps, beauty, light, rest_points, rest_frames, mixed_pixels, VARIANT, PASS, X, Y)
-/* the work-item's pixel, in a main pass */
+        __global float *light, __global const float4 *rest_points, __global const float4 *rest_frames
 #define DC_SHADE_CALL(VARIANT)                                                                              \
-    const int x = get_global_id(0), y = get_global_id(1);                                                    \
-    if (x < frame->width && y < frame->height) DC_SHADE_AT(VARIANT, DC_PASS_MAIN, x, y)
+    dc_shade_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2, original0, original1,       \
+                   decals, textures, texels,                                                                  \
+                   tile_offsets, tile_decals, decal_bounds, binned, list_capacity,                            \
+                   mask_weights, occlusion_maps, beauty, light, rest_points, rest_frames, VARIANT)
 
 /* The point program (DC_POINT_SHADING_ONLY): every target, kind and blast occlusion, then leaner
  * kernels the host picks when a scene fits, none with the pixel filter's or the rest pose's code,
@@ -521,22 +507,11 @@ __kernel void dc_shade_point_albedo_flat(DC_SHADE_ARGUMENTS) {
     DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT);
 }
 #else
-/* A shading program (ComputeDevice::shadingProgram), for filtered and texture-space frames: the
- * main pass and the mixed pass, of the variant (DC_SHADE_VARIANT) and with the paths (DC_PATH_TAPS,
- * DC_PATH_FAST, DC_PATH_REST) its build names. */
+/* A shading program (ComputeDevice::shadingProgram), for filtered and texture-space frames: one
+ * kernel, of the variant (DC_SHADE_VARIANT) and with the paths (DC_PATH_TAPS, DC_PATH_FAST,
+ * DC_PATH_REST) its build names. */
 __kernel void dc_shade(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_SHADE_VARIANT); }
-
-/* The mixed pass: the pixels the main pass listed in mixed_pixels (their count first), strided
- * over the work-items, so that each warp runs the split's window scans for pixels that need them. */
-__kernel void dc_shade_mixed(DC_SHADE_ARGUMENTS) {
-    const int count = mixed_pixels[0];
-    for (int k = get_global_id(0); k < count; k += get_global_size(0)) {
-        const int i = mixed_pixels[1 + k];
-        DC_SHADE_AT(DC_SHADE_VARIANT, DC_PASS_MIXED, i % frame->width, i / frame->width);
-    }
-}
 #endif
 
 #undef DC_SHADE_ARGUMENTS
 #undef DC_SHADE_CALL
-#undef DC_SHADE_AT

@@ -134,11 +134,8 @@ TEST(Kernels, FilteredShadingKernelsComeFromProgramsOfTheirOwn) {
     EXPECT_NE(point.find(";dc_shade_point;"), std::string::npos) << point;
     EXPECT_NE(point.find(";dc_bin_fill;"), std::string::npos) << point;
     EXPECT_EQ(point.find(";dc_shade;"), std::string::npos) << point;
-    EXPECT_EQ(point.find(";dc_shade_mixed;"), std::string::npos) << point;
     const ShadingPaths fast{false, true, false};
-    // its main pass and its mixed pass (the pixels a split between two surfaces may take)
-    const std::string shading = kernelNames(device.shadingProgram(DC_VARIANT_FLAT, fast));
-    EXPECT_TRUE(shading == ";dc_shade;dc_shade_mixed;" || shading == ";dc_shade_mixed;dc_shade;") << shading;
+    EXPECT_EQ(kernelNames(device.shadingProgram(DC_VARIANT_FLAT, fast)), ";dc_shade;");
     EXPECT_EQ(device.shadingProgram(DC_VARIANT_FLAT, fast)(), device.shadingProgram(DC_VARIANT_FLAT, fast)());
     EXPECT_NE(device.shadingProgram(DC_VARIANT_FLAT, fast)(), device.shadingProgram(0, fast)());
     EXPECT_NE(device.shadingProgram(DC_VARIANT_FLAT, fast)(),

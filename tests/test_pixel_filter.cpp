@@ -366,42 +366,6 @@ TEST(PixelFilterTruth, KernelMatchesReferenceOnAntialiasedFrames) {
     }
 }
 
-// Pixels that a split between two surfaces may take (a 4-neighbour more than DC_MIXED_DEPTH_JUMP
-// away in relative depth, or a normal pass shorter than DC_MIXED_NORMAL_LENGTH) go to the shading
-// program's mixed pass. It shades some of them, never more than the frame has (the thresholds
-// loosened here for float rounding), and none of a point-sampled frame. That it shades them as the
-// reference does is KernelMatchesReferenceOnAntialiasedFrames.
-TEST(PixelFilterTruth, MixedPixelsTakeAPassOfTheirOwn) {
-    const DecalScene decals = scatteredDecals(7, 24);
-    const FilteredTruth t = filteredTruth(decals, kBlackmanHarris3);
-    const Plane& z = t.frame.planes.at(Attribute::Depth);
-    const Plane& n = t.frame.planes.at(Attribute::Normal);
-    std::size_t may_split = 0;
-    for (int y = 0; y < t.frame.height; ++y)
-        for (int x = 0; x < t.frame.width; ++x) {
-            const std::size_t i = std::size_t(y) * t.frame.width + x;
-            bool mixed = glm::length(glm::dvec3(n.at(i, 0), n.at(i, 1), n.at(i, 2))) < 0.996;
-            for (int k = 0; k < 4; ++k) {
-                const int nx = x + (k == 0) - (k == 1), ny = y + (k == 2) - (k == 3);
-                if (nx >= 0 && ny >= 0 && nx < t.frame.width && ny < t.frame.height)
-                    mixed = mixed ||
-                            std::abs(z.at(std::size_t(ny) * t.frame.width + nx, 0) - z.at(i, 0)) > 0.019 * z.at(i, 0);
-            }
-            may_split += mixed ? 1 : 0;
-        }
-    Compositor compositor(test::cpuDevice());
-    compositor.setScene(decals);
-    GBuffer filtered = t.frame;
-    const CompositeStats stats = compositor.composite(filtered, t.camera);
-    std::printf("mixed pass: %lld pixels of %zu that a split may take\n", static_cast<long long>(stats.mixed_pixels),
-                may_split);
-    EXPECT_GT(stats.mixed_pixels, 100);
-    EXPECT_LE(stats.mixed_pixels, std::int64_t(may_split));
-    GBuffer point = t.frame;
-    point.pixel_filter = {};
-    EXPECT_EQ(compositor.composite(point, t.camera).mixed_pixels, 0);
-}
-
 // Decals piled on each other (48 of them, each over several others): where their edges cross
 // inside one footprint, each tap blends them in order (docs/pixel-filter.md step 3) as the
 // renderer's samples do. Measured away from silhouettes, blackman-harris:3: 49.28 dB stacked per

@@ -27,9 +27,6 @@ struct CompositeStats {
     int decals = 0;
     int tiles = 0;
     std::int64_t bin_entries = 0;  // sum over tiles of the tile's decal count
-    // Filtered frames: pixels that a split between two surfaces may take (silhouettes, creases),
-    // which the shading program's mixed pass shaded (kernels/shading.cl dc_shade_mixed)
-    std::int64_t mixed_pixels = 0;
     // Device time from profiling events, milliseconds.
     double tile_bounds_ms = 0, binning_ms = 0, shading_ms = 0;
     // binning_ms in its steps: decal bounds and the coarse lists (level 1), the tiles' tests and

@@ -32,10 +32,6 @@ constexpr int kBinGroupSize = 64;  // work-items per group in the binning kernel
 // 0.066; at 1440p (109) bounds 0.027 against 0.023, tests 0.032 against 0.056 but, with 1024 decals,
 // 0.029 against 0.020; at 4K (245) 0.059 against 0.034 and 0.060 against 0.050 (docs/benchmarks.md).
 constexpr std::size_t kGroupedTilesPerUnit = 96;
-// The mixed shading pass (kernels/shading.cl dc_shade_mixed): work-items per compute unit, in
-// groups of this many. Its pixels are a few per cent of a frame; on a GPU a unit keeps 512 of its
-// heavy work-items in flight, on a CPU the groups are its threads' chunks.
-constexpr std::size_t kMixedItemsPerUnit = 512, kMixedGroupSize = 64;
 
 // The paths of the shading kernel that the frame takes (kernels/shading.cl tests the same fields):
 // a frame with texture-space decals takes the rest pose's loop alone, filtered or not.
@@ -110,7 +106,6 @@ struct Compositor::State {
     cl_types::DcFrame frame_params{};
     std::vector<cl_types::DcDecal> decal_params;
     std::array<cl_int, 2> totals{};  // coarse and tile list lengths, read back with the results
-    cl_int mixed_count = 0;          // the mixed pass's pixels, read back with the results
 
     // device memory, grown on demand
     StagedBuffer depth, position, masks;
@@ -120,9 +115,6 @@ struct Compositor::State {
     // Filtered frames: surface groups 0 and 1 as uploaded. Split silhouette pixels read their
     // neighbours' albedo and normal, which the shading kernel changes in place meanwhile.
     std::array<cl::Buffer, 2> original;
-    // Filtered frames: the pixels the shading program's main pass leaves to its mixed pass (their
-    // count, then their indices).
-    cl::Buffer mixed_pixels;
     cl::Buffer frame_buffer, decal_buffer, bounds, tile_depth, coarse_depth, coarse_counts, coarse_offsets, chunk_masks,
         chunk_starts, coarse_lists, tile_counts, tile_offsets, tile_decals, totals_buffer;
     // Per coarse-list entry, a flag for each tile of its coarse tile: the binning's count pass
@@ -318,7 +310,6 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         for (int g = 0; g < 2; ++g)
             reserve(context, s.original[std::size_t(g)],
                     (filtered && surface.used[std::size_t(g)] ? pixels : 1) * sizeof(cl_float4));
-        reserve(context, s.mixed_pixels, ((filtered ? pixels : 0) + 1) * sizeof(cl_int));
         s.masks.reserve(context, queue, std::max<std::size_t>(s.mask_count * pixels, 1) * sizeof(float), s.unified);
         const std::size_t light_terms = beauty ? deviceLightTerms(*beauty, fold_light) : 0;
         s.beauty.reserve(context, queue, (beauty ? pixels : 1) * kBeautyPixelBytes, s.unified);
@@ -476,9 +467,10 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             });
             // a frame without a filter or texture-space decals takes no path: the point program's kernel
             const ShadingPaths paths = shadingPaths(params);
-            const int variant = (albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0) |
-                                (paths.any() ? 0 : DC_VARIANT_POINT);
-            CompositorKernels::Shade& shade = k.shading(variant, paths, device_);
+            CompositorKernels::Shade& shade =
+                k.shading((albedo_only ? DC_VARIANT_ALBEDO_ONLY : 0) | (flat ? DC_VARIANT_FLAT : 0) |
+                              (paths.any() ? 0 : DC_VARIANT_POINT),
+                          paths, device_);
             // Binned, one work-group per screen tile: its work-items walk the same decal list. Unbinned
             // the same groups: PoCL keeps a work-group's private variables on its thread's stack, and
             // the groups it picks itself for a whole frame (40 x 78) overflowed it.
@@ -495,24 +487,12 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 if (filtered && surface.used[std::size_t(g)])
                     queue.enqueueCopyBuffer(s.surface[std::size_t(g)].device(), s.original[std::size_t(g)], 0, 0,
                                             pixels * sizeof(cl_float4));
-            if (filtered) queue.enqueueFillBuffer(s.mixed_pixels, cl_int(0), 0, sizeof(cl_int));
-            const auto shade_pass = [&](CompositorKernels::Shade& kernel, const cl::EnqueueArgs& range) {
-                return kernel(range, s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(),
-                              s.surface[2].device(), s.original[0], s.original[1], s.decal_buffer, s.texture_table,
-                              s.texels, s.tile_offsets, s.tile_decals, s.bounds, cl_int(binned ? 1 : 0),
-                              cl_int(s.list_capacity), s.masks.device(), occlusion_maps, s.beauty.device(),
-                              s.light.device(), s.rest_pass.points, s.rest_pass.frames, s.mixed_pixels);
-            };
-            const cl::Event e_shade = shade_pass(shade, shade_range);
-            // Filtered frames' mixed pass: a fixed number of work-items strides over the pixels the
-            // main pass listed, whose count stays on the device (no read in the middle of a frame).
-            cl::Event e_mixed;
-            if (filtered) {
-                const cl::EnqueueArgs mixed_range(queue, cl::NDRange(std::size_t(s.compute_units) * kMixedItemsPerUnit),
-                                                  cl::NDRange(kMixedGroupSize));
-                e_mixed = shade_pass(k.mixedShading(variant, paths, device_), mixed_range);
-                queue.enqueueReadBuffer(s.mixed_pixels, CL_FALSE, 0, sizeof(cl_int), &s.mixed_count);
-            }
+            const cl::Event e_shade =
+                shade(shade_range, s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(),
+                      s.surface[2].device(), s.original[0], s.original[1], s.decal_buffer, s.texture_table, s.texels,
+                      s.tile_offsets, s.tile_decals, s.bounds, cl_int(binned ? 1 : 0), cl_int(s.list_capacity),
+                      s.masks.device(), occlusion_maps, s.beauty.device(), s.light.device(), s.rest_pass.points,
+                      s.rest_pass.frames);
             // Only the groups that hold a changed attribute come back, run by run, each unpacked
             // while the next is still on its way.
             std::vector<std::array<cl::Event, kSurfaceGroups>> downloaded(static_cast<std::size_t>(runs));
@@ -570,9 +550,8 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 if (light_back) s.light.endDownload(queue);
             }
             queue.finish();
-            stats.mixed_pixels = filtered ? s.mixed_count : 0;
             if (s.profiling) {
-                stats.shading_ms = eventMs(e_shade) + (filtered ? eventMs(e_mixed) : 0.0);
+                stats.shading_ms = eventMs(e_shade);
                 if (!occlusion.occluders.empty()) stats.occlusion_ms = eventMs(e_occlusion);
                 for (const cl::Event& e : e_rest) stats.rest_ms += eventMs(e);
                 if (binned) {

@@ -32,25 +32,13 @@ CompositorKernels::CompositorKernels(const cl::Program& program)
       point_shade_{Shade(program, "dc_shade_point"), Shade(program, "dc_shade_point_albedo"),
                    Shade(program, "dc_shade_point_flat"), Shade(program, "dc_shade_point_albedo_flat")} {}
 
-CompositorKernels::ShadingPasses& CompositorKernels::shadingPasses(int variant, const ShadingPaths& paths,
-                                                                   ComputeDevice& device) {
-    const int key = paths.key(variant);
-    auto found = shade_.find(key);
-    if (found == shade_.end()) {
-        const cl::Program& program = device.shadingProgram(variant, paths);
-        found = shade_.emplace(key, ShadingPasses{Shade(program, "dc_shade"), Shade(program, "dc_shade_mixed")}).first;
-    }
-    return found->second;
-}
-
 CompositorKernels::Shade& CompositorKernels::shading(int variant, const ShadingPaths& paths, ComputeDevice& device) {
     if (variant & DC_VARIANT_POINT) return point_shade_.at(std::size_t(variant & ~DC_VARIANT_POINT));
-    return shadingPasses(variant, paths, device).main;
-}
-
-CompositorKernels::Shade& CompositorKernels::mixedShading(int variant, const ShadingPaths& paths,
-                                                          ComputeDevice& device) {
-    return shadingPasses(variant, paths, device).mixed;
+    const int key = paths.key(variant);
+    auto found = shade_.find(key);
+    if (found == shade_.end())
+        found = shade_.emplace(key, Shade(device.shadingProgram(variant, paths), "dc_shade")).first;
+    return found->second;
 }
 
 }  // namespace decalcomp

@@ -49,27 +49,18 @@ struct CompositorKernels {
     // frame, depth, position, surface groups 0-2 (in place), groups 0-1 as uploaded (filtered frames),
     // decals, texture table, texels,
     // tile offsets, tile lists, decal bounds, binned, list capacity, mask weights, occlusion maps,
-    // beauty, light, rest points, rest frames, mixed pixels (their count, then their indices)
-    using Shade = cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
-                                    Buffer, Buffer, Buffer, Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer,
-                                    Buffer, Buffer, Buffer>;
-    // A shading program's two passes (kernels/shading.cl): `dc_shade` over the frame, which lists
-    // the pixels a split between two surfaces may take, and `dc_shade_mixed` over that list.
-    struct ShadingPasses {
-        Shade main, mixed;
-    };
+    // beauty, light, rest points, rest frames
+    using Shade =
+        cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
+                          Buffer, Buffer, Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer>;
     // The shading kernel of a variant (DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT | DC_VARIANT_POINT
     // bits): with DC_VARIANT_POINT, the point program's; without, `dc_shade` of
     // device.shadingProgram(variant, paths), built and taken the first time it is asked for.
     Shade& shading(int variant, const ShadingPaths& paths, ComputeDevice& device);
-    // The mixed pass of that program (not of the point program, whose frames have no mixed pixels).
-    Shade& mixedShading(int variant, const ShadingPaths& paths, ComputeDevice& device);
 
 private:
-    ShadingPasses& shadingPasses(int variant, const ShadingPaths& paths, ComputeDevice& device);
-
-    std::array<Shade, 4> point_shade_;    // by the variant's other bits
-    std::map<int, ShadingPasses> shade_;  // by ShadingPaths::key
+    std::array<Shade, 4> point_shade_;  // by the variant's other bits
+    std::map<int, Shade> shade_;        // by ShadingPaths::key
 };
 
 }  // namespace decalcomp

@@ -10,7 +10,6 @@ py::dict statsDict(const CompositeStats& s) {
     d["decals"] = s.decals;
     d["tiles"] = s.tiles;
     d["bin_entries"] = s.bin_entries;
-    d["mixed_pixels"] = s.mixed_pixels;  // filtered frames: pixels of the mixed shading pass
     d["kernels_ms"] = s.totalKernelMs();
     d["tile_bounds_ms"] = s.tile_bounds_ms;
     d["binning_ms"] = s.binning_ms;

@@ -66,7 +66,6 @@ struct Result {
     double kernel_min_ms = 0, kernel_max_ms = 0;
     double bin_coarse_ms = 0, bin_count_ms = 0, bin_scan_ms = 0, bin_fill_ms = 0;  // binning_ms's steps
     std::int64_t bin_entries = 0;
-    std::int64_t mixed_pixels = 0;  // filtered frames: pixels of the mixed shading pass
     int tiles = 0;
     int max_per_tile = 0;      // longest tile list (binned)
     double mean_per_tile = 0;  // mean list length over all tiles (binned)
@@ -137,7 +136,6 @@ Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camer
         fmt::print(stderr, "warning: {} tiles, expected {} for {}-pixel tiles; test ratios are off\n", warm.tiles,
                    expected_tiles, kTileSize);
     r.bin_entries = warm.bin_entries;
-    r.mixed_pixels = warm.mixed_pixels;
     if (binned) {
         const BinningResult b = compositor.lastBinning();
         const std::size_t tiles = std::size_t(b.tiles_x) * std::size_t(b.tiles_y);
@@ -220,19 +218,19 @@ void printTable(const std::vector<Result>& results, std::FILE* out) {
 void writeCsv(const std::vector<Result>& results, std::ostream& out) {
     out << "width,height,decals,mode,status,kernel_ms,kernel_min_ms,kernel_max_ms,tile_bounds_ms,binning_ms,"
            "shading_ms,wall_ms,tiles,bin_entries,mean_per_tile,max_per_tile,bin_coarse_ms,bin_count_ms,bin_scan_ms,"
-           "bin_fill_ms,mixed_pixels\n";
+           "bin_fill_ms\n";
     for (const auto& r : results) {
         out << fmt::format("{},{},{},{},{}", r.size.width, r.size.height, r.decals, r.binned ? "binned" : "unbinned",
                            r.skipped ? "skipped" : "ok");
         if (r.skipped) {
-            out << ",,,,,,,,,,,,,,,,\n";
+            out << ",,,,,,,,,,,,,,,\n";
             continue;
         }
         out << fmt::format(
-            ",{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{},{},{:.3f},{},{:.4f},{:.4f},{:.4f},{:.4f},{}\n",
+            ",{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{},{},{:.3f},{},{:.4f},{:.4f},{:.4f},{:.4f}\n",
             r.kernel_ms, r.kernel_min_ms, r.kernel_max_ms, r.tile_bounds_ms, r.binning_ms, r.shading_ms, r.wall_ms,
             r.tiles, r.binned ? r.bin_entries : 0, r.mean_per_tile, r.max_per_tile, r.bin_coarse_ms, r.bin_count_ms,
-            r.bin_scan_ms, r.bin_fill_ms, r.mixed_pixels);
+            r.bin_scan_ms, r.bin_fill_ms);
     }
 }
 

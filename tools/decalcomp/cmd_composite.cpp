@@ -25,12 +25,10 @@ struct CompositeFlags {
 // --stats: what the device and the EXR writer did, one fact a line.
 void printStats(const FrameReport& report) {
     const CompositeStats& s = report.stats;
-    std::cout << fmt::format("stats: decals {}, tiles {}, bin entries {}, mixed pixels {}\n", s.decals, s.tiles,
-                             s.bin_entries, s.mixed_pixels)
-              << fmt::format(
-                     "stats: kernels {:.2f} ms (tile bounds {:.2f}, binning {:.2f}, shading {:.2f}, "
-                     "occlusion {:.2f})\n",
-                     s.totalKernelMs(), s.tile_bounds_ms, s.binning_ms, s.shading_ms, s.occlusion_ms)
+    std::cout << fmt::format("stats: decals {}, tiles {}, bin entries {}\n", s.decals, s.tiles, s.bin_entries)
+              << fmt::format("stats: kernels {:.2f} ms (tile bounds {:.2f}, binning {:.2f}, shading {:.2f}, "
+                             "occlusion {:.2f})\n",
+                             s.totalKernelMs(), s.tile_bounds_ms, s.binning_ms, s.shading_ms, s.occlusion_ms)
               << fmt::format("stats: changed samples {}\n", report.changed_samples)
               << fmt::format("stats: chunks copied {}, chunks re-encoded {}, pixels re-encoded {}\n",
                              report.chunks_copied, report.chunks_reencoded, report.pixels_reencoded);
