@@ -160,10 +160,13 @@ TEST(Cli, CompositeWritesExrAndPreview) {
 // DECALCOMP_BUILD_NOTICE_AFTER=0 says it at every kernel build, on stderr (not with --quiet); a
 // value that is no number of seconds is a usage error naming it.
 TEST(Cli, KernelBuildsRunningLongSaySo) {
+    const auto composite = [](const test::ScratchDir& out) {
+        return shellQuote(DECALCOMP_CLI) + " composite " + blender("gbuffer.exr") + " --decals " +
+               blender("scene.json") + " --camera " + blender("camera.json") + " --device cpu -o " +
+               shellQuote(out.file("o.exr"));
+    };
     test::ScratchDir dir;
-    const std::string args = shellQuote(DECALCOMP_CLI) + " composite " + blender("gbuffer.exr") + " --decals " +
-                             blender("scene.json") + " --camera " + blender("camera.json") + " --device cpu -o " +
-                             shellQuote(dir.file("o.exr"));
+    const std::string args = composite(dir);
     auto r = test::runCommand("DECALCOMP_BUILD_NOTICE_AFTER=0 " + args);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_EQ(test::occurrences(r.output, "decalcomp: note: "), 1u) << r.output;
@@ -177,9 +180,7 @@ TEST(Cli, KernelBuildsRunningLongSaySo) {
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_EQ(r.output.find("note:"), std::string::npos) << r.output;
     test::ScratchDir refused;  // the bad value stops the run before anything is written
-    r = test::runCommand("DECALCOMP_BUILD_NOTICE_AFTER=soon " + shellQuote(DECALCOMP_CLI) + " composite " +
-                         blender("gbuffer.exr") + " --decals " + blender("scene.json") + " --camera " +
-                         blender("camera.json") + " --device cpu -o " + shellQuote(refused.file("o.exr")));
+    r = test::runCommand("DECALCOMP_BUILD_NOTICE_AFTER=soon " + composite(refused));
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("DECALCOMP_BUILD_NOTICE_AFTER=soon: not a number of seconds"), std::string::npos)
         << r.output;
