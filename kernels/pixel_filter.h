@@ -6,6 +6,7 @@
 #include "shared_types.h"
 #include "matrix.h"
 #include "reconstruct.h"
+#include "clean_depth.h"
 
 /* The rays of a pixel's footprint: origin(u, v) + t dir(u, v), affine in the pixel offset (u, v)
  * from its centre (exact for projective cameras). */
@@ -130,35 +131,14 @@ inline bool dc_tap_plane(__constant const DcFrame* f, const DcTapRays* rays, flo
  * one sample's: renderers do not filter depth). Its taps go to the planes of the nearest clean
  * pixel of each surface within the window, split by a line across the direction from the nearer
  * surface's clean pixels to the farther's. The line sits where the nearer surface's share of the
- * filter matches the share that its albedo and normal have in the pixel's filtered ones. */
-#define DC_CLEAN_DEPTH_STEP 0.015f
+ * filter matches the share that its albedo and normal have in the pixel's filtered ones. Clean
+ * pixels: clean_depth.h. */
 /* the window reaches at most this many pixels from the pixel (binning adds one tile around each) */
 #define DC_SPLIT_WINDOW 3
 /* how far the share's mix of the surfaces' normals may miss the pixel's normal */
 #define DC_SPLIT_NORMAL_FIT 0.5f
 /* bisection steps placing the split line: 2^-16 of the footprint */
 #define DC_SPLIT_STEPS 16
-
-/* The largest view-depth step from pixel (x, y) at view depth z to its 4-neighbours in the frame;
- * MAXFLOAT where one of them has no point. */
-inline float dc_depth_step(__constant const DcFrame* f, __global const float* depth_plane,
-                           __global const float4* position_plane, int x, int y, float z) {
-    float step = 0.0f;
-    for (int k = 0; k < 4; ++k) {
-        const int nx = x + (k == 0) - (k == 1), ny = y + (k == 2) - (k == 3);
-        float zn;
-        if (nx < 0 || ny < 0 || nx >= f->width || ny >= f->height) continue;
-        if (!dc_view_depth(f, depth_plane, position_plane, nx, ny, &zn)) return MAXFLOAT;
-        step = fmax(step, fabs(zn - z));
-    }
-    return step;
-}
-
-/* A clean pixel: every 4-neighbour a surface within DC_CLEAN_DEPTH_STEP of its view depth z. */
-inline bool dc_clean_pixel(__constant const DcFrame* f, __global const float* depth_plane,
-                           __global const float4* position_plane, int x, int y, float z) {
-    return dc_depth_step(f, depth_plane, position_plane, x, y, z) <= DC_CLEAN_DEPTH_STEP * z;
-}
 
 /* The filter's weight on the nearer surface with the split line at c. */
 inline float dc_split_weight(__constant const DcFrame* f, DcTaps* t, float c) {
@@ -195,12 +175,12 @@ inline float3 dc_clean_normal(__constant const DcFrame* f, __global const float*
 
 /* Splits a silhouette pixel's taps between its two surfaces (see above). `original0/1`: the
  * material planes as the file holds them (the albedo group; the normal group where `has_normal`),
- * since neighbours' planes may already hold their decals. Leaves t as it is where the pixel is not
- * a silhouette or its surfaces cannot be told apart. */
+ * since neighbours' planes may already hold their decals; `clean_depths`: dc_clean_depths' plane.
+ * Leaves t as it is where the pixel is not a silhouette or its surfaces cannot be told apart. */
 inline void dc_split_silhouette(__constant const DcFrame* f, __global const float* depth_plane,
                                 __global const float4* position_plane, __global const float4* original0,
-                                __global const float4* original1, int has_normal, int x, int y, float3 p,
-                                float depth_step, DcTaps* t) {
+                                __global const float4* original1, __global const float* clean_depths,
+                                int has_normal, int x, int y, float3 p, float depth_step, DcTaps* t) {
     const float z = -p.z;
     /* depth_step: the largest view-depth step to a 4-neighbour (dc_taps has point-sampled pixels
      * beside background: every 4-neighbour here has a point) */
@@ -220,8 +200,7 @@ inline void dc_split_silhouette(__constant const DcFrame* f, __global const floa
                 const int nx = x + dx, ny = y + dy;
                 float zq;
                 if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= f->width || ny >= f->height ||
-                    !dc_view_depth(f, depth_plane, position_plane, nx, ny, &zq) ||
-                    !dc_clean_pixel(f, depth_plane, position_plane, nx, ny, zq))
+                    !dc_clean_at(f, clean_depths, depth_plane, position_plane, nx, ny, &zq))
                     continue;
                 if (pass == 0) {
                     z_min = fmin(z_min, zq);
@@ -305,8 +284,9 @@ inline void dc_split_silhouette(__constant const DcFrame* f, __global const floa
  * turned furthest from that, pass 2 gives each clean pixel to the nearer of the two. False where
  * the window holds no such two flat faces. */
 inline bool dc_crease_faces(__constant const DcFrame* f, __global const float* depth_plane,
-                            __global const float4* position_plane, __global const float4* original1, int x, int y,
-                            float3 mix, float3 face[2], int2 px[2]) {
+                            __global const float4* position_plane, __global const float4* original1,
+                            __global const float* clean_depths, int x, int y, float3 mix, float3 face[2],
+                            int2 px[2]) {
     const int window = clamp((int)ceil(f->filter_radius + 0.5f) + 1, 2, DC_SPLIT_WINDOW);
     int best_d2[2] = {1 << 20, 1 << 20};
     for (int pass = 0; pass < 3; ++pass) {
@@ -320,8 +300,7 @@ inline bool dc_crease_faces(__constant const DcFrame* f, __global const float* d
                 if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= f->width || ny >= f->height) continue;
                 const float3 n = original1[(size_t)ny * f->width + nx].xyz;
                 if (!(fabs(length(n) - 1.0f) <= 1.0f - DC_CLEAN_NORMAL_LENGTH) ||
-                    !dc_view_depth(f, depth_plane, position_plane, nx, ny, &zq) ||
-                    !dc_clean_pixel(f, depth_plane, position_plane, nx, ny, zq))
+                    !dc_clean_at(f, clean_depths, depth_plane, position_plane, nx, ny, &zq))
                     continue;
                 if (pass < 2) {
                     const float c = dot(n, from);
@@ -352,13 +331,14 @@ inline float dc_crease_side(const DcTapRays* r, const DcTapPlane* a, const DcTap
 /* Splits a crease pixel's taps between its two faces (see above); leaves t as it is elsewhere. */
 inline void dc_split_crease(__constant const DcFrame* f, __global const float* depth_plane,
                             __global const float4* position_plane, __global const float4* original0,
-                            __global const float4* original1, int x, int y, float3 p, DcTaps* t) {
+                            __global const float4* original1, __global const float* clean_depths, int x, int y,
+                            float3 p, DcTaps* t) {
     const size_t i = (size_t)y * f->width + x;
     const float3 mix = original1[i].xyz;
     if (!(length(mix) < DC_MIXED_NORMAL_LENGTH) || !(length(mix) > 0.0f)) return;
     float3 face[2];
     int2 px[2];
-    if (!dc_crease_faces(f, depth_plane, position_plane, original1, x, y, mix, face, px)) return;
+    if (!dc_crease_faces(f, depth_plane, position_plane, original1, clean_depths, x, y, mix, face, px)) return;
     float3 pa, pb;
     if (!dc_reconstruct(f, depth_plane, position_plane, px[0].x, px[0].y, &pa) ||
         !dc_reconstruct(f, depth_plane, position_plane, px[1].x, px[1].y, &pb))
@@ -419,7 +399,8 @@ inline void dc_split_crease(__constant const DcFrame* f, __global const float* d
  * at grazing angles. */
 inline DcTaps dc_taps(__constant const DcFrame* f, __global const float* depth_plane,
                       __global const float4* position_plane, __global const float4* original0,
-                      __global const float4* original1, int has_normal, int x, int y, float3 p, float3 n) {
+                      __global const float4* original1, __global const float* clean_depths, int has_normal, int x,
+                      int y, float3 p, float3 n) {
     DcTaps t;
     t.mode = DC_TAPS_POINT;
     /* the 4-neighbours' view depths (planar depth reads them without unprojecting): beside
@@ -434,9 +415,10 @@ inline DcTaps dc_taps(__constant const DcFrame* f, __global const float* depth_p
     }
     dc_pixel_rays(f, x, y, &t.rays);
     if (dc_tap_plane(f, &t.rays, p, n, &t.plane)) t.mode = DC_TAPS_PLANE;
-    dc_split_silhouette(f, depth_plane, position_plane, original0, original1, has_normal, x, y, p, depth_step, &t);
+    dc_split_silhouette(f, depth_plane, position_plane, original0, original1, clean_depths, has_normal, x, y, p,
+                        depth_step, &t);
     if (has_normal && t.mode == DC_TAPS_PLANE)
-        dc_split_crease(f, depth_plane, position_plane, original0, original1, x, y, p, &t);
+        dc_split_crease(f, depth_plane, position_plane, original0, original1, clean_depths, x, y, p, &t);
     return t;
 }
 

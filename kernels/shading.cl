@@ -295,6 +295,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                                     __global const float4* position_plane, __global float4* surface0,
                                     __global float4* surface1, __global float4* surface2,
                                     __global const float4* original0, __global const float4* original1,
+                                    __global const float* clean_depths,
                                     __global const DcDecal* decals, __global const DcTexture* textures,
                                     __global const float4* texels, __global const int* tile_decals,
                                     __global const DcDecalBounds* decal_bounds, int binned, int begin, int end,
@@ -354,7 +355,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
         /* The point program (device.cpp) holds the point kernels alone: none of the filter's or the
          * rest pose's code reaches its compiler, whose cold build that code slowed down (their
          * planes stay arguments, so both programs' kernels take the same ones). */
-        (void)original0, (void)original1, (void)rest_points, (void)rest_frames;
+        (void)original0, (void)original1, (void)clean_depths, (void)rest_points, (void)rest_frames;
         if (1) {
 #else
         /* A shading program (device.cpp) holds the paths its build names (DC_PATH_x): each inlines
@@ -363,8 +364,8 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
         (void)rest_points, (void)rest_frames;
 #endif
         DcTaps taps = frame->filter_taps > 0 && has_normal
-                                ? dc_taps(frame, depth_plane, position_plane, original0, original1, frame->has_normal, x,
-                                          y, p, normal)
+                                ? dc_taps(frame, depth_plane, position_plane, original0, original1, clean_depths,
+                                          frame->has_normal, x, y, p, normal)
                                 : dc_point_taps();
         /* (a program of the rest pose's loop alone has no other branch: texture-space frames take it) */
         if (DC_PATH_TAPS + DC_PATH_FAST > 0 && taps.mode == DC_TAPS_POINT && !frame->rest_decals) {
@@ -450,6 +451,7 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                            __global const float4* position_plane, __global float4* surface0,
                            __global float4* surface1, __global float4* surface2,
                            __global const float4* original0, __global const float4* original1,
+                           __global const float* clean_depths,
                            __global const DcDecal* decals, __global const DcTexture* textures,
                            __global const float4* texels, __global const int* tile_offsets,
                            __global const int* tile_decals, __global const DcDecalBounds* decal_bounds, int binned,
@@ -475,7 +477,7 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
     /* Every pixel of a listed tile writes its beauty change, 0 where nothing changed: the host adds
      * the changes of exactly those tiles (beauty_transfer.hpp), and the kernel never reads the beauty. */
     const float3 change = dc_shade_listed_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2,
-                                                original0, original1, decals, textures, texels, tile_decals,
+                                                original0, original1, clean_depths, decals, textures, texels, tile_decals,
                                                 decal_bounds, binned, begin, end, mask_weights, occlusion_maps, light,
                                                 rest_points, rest_frames, variant, x, y);
     if (frame->beauty) vstore3(change, i, beauty);
@@ -484,7 +486,7 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
 #define DC_SHADE_ARGUMENTS                                                                                       \
     __constant const DcFrame *frame, __global const float *depth_plane, __global const float4 *position_plane,  \
         __global float4 *surface0, __global float4 *surface1, __global float4 *surface2,                         \
-        __global const float4 *original0, __global const float4 *original1,                                      \
+        __global const float4 *original0, __global const float4 *original1, __global const float *clean_depths,  \
         __global const DcDecal *decals, __global const DcTexture *textures, __global const float4 *texels,       \
         __global const int *tile_offsets, __global const int *tile_decals,                                      \
         __global const DcDecalBounds *decal_bounds, int binned, int list_capacity,                              \
@@ -492,6 +494,7 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
         __global float *light, __global const float4 *rest_points, __global const float4 *rest_frames
 #define DC_SHADE_CALL(VARIANT)                                                                              \
     dc_shade_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2, original0, original1,       \
+                   clean_depths,                                                                              \
                    decals, textures, texels,                                                                  \
                    tile_offsets, tile_decals, decal_bounds, binned, list_capacity,                            \
                    mask_weights, occlusion_maps, beauty, light, rest_points, rest_frames, VARIANT)

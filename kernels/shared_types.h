@@ -132,7 +132,7 @@ typedef struct {
      * separable weights filter_weight, each prefiltering a stratum filter_step pixels wide. */
     DC_INT filter_taps;
     DC_FLOAT filter_step, filter_radius;
-    DC_INT pad3;
+    DC_INT clean_plane; /* 1: dc_clean_depths filled the clean-depth plane; 0: scans test neighbours */
     DC_FLOAT filter_offset[DC_MAX_FILTER_TAPS];
     DC_FLOAT filter_weight[DC_MAX_FILTER_TAPS];
     /* Pixels on one tangent plane integrate each decal over the filter in closed form

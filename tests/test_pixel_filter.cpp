@@ -366,6 +366,46 @@ TEST(PixelFilterTruth, KernelMatchesReferenceOnAntialiasedFrames) {
     }
 }
 
+// The window scans of silhouette and crease pixels learn which neighbours are clean from a plane
+// filled first (GPUs) or by testing each neighbour (CPUs, the default on PoCL): both give the same
+// planes bit for bit, by taps and in closed form, where the decals reach pixels the scans run for.
+TEST(PixelFilterTruth, CleanDepthPlaneAndScansGiveTheSamePixels) {
+    const DecalScene decals = scatteredDecals(7, 24);
+    const FilteredTruth t = filteredTruth(decals, kBlackmanHarris3);
+    const std::vector<std::uint8_t> silhouette = silhouettePixels(t.frame), creases = creasePixels(t.frame);
+    for (const bool fast : {false, true}) {
+        GBuffer frame = t.frame;
+        frame.pixel_filter.fast = fast;
+        const auto run = [&](CleanDepths clean) {
+            Compositor compositor(test::cpuDevice());
+            compositor.setScene(decals);
+            GBuffer out = frame;
+            CompositeOptions options;
+            options.clean_depths = clean;
+            compositor.composite(out, t.camera, options);
+            return out;
+        };
+        const GBuffer plane = run(CleanDepths::Plane), scans = run(CleanDepths::Scan);
+        for (const auto& [attribute, samples] : scans.planes) {
+            const auto& other = plane.planes.at(attribute).samples;
+            ASSERT_EQ(other.size(), samples.samples.size());
+            EXPECT_EQ(0, std::memcmp(other.data(), samples.samples.data(), other.size() * sizeof(float)))
+                << "fast " << fast << ", attribute " << int(attribute);
+        }
+        std::size_t changed_silhouette = 0, changed_crease = 0;
+        const Plane& before = frame.planes.at(Attribute::Albedo);
+        for (std::size_t i = 0; i < frame.pixelCount(); ++i) {
+            bool changed = false;
+            for (int c = 0; c < 3; ++c)
+                changed = changed || scans.planes.at(Attribute::Albedo).at(i, c) != before.at(i, c);
+            changed_silhouette += changed && silhouette[i];
+            changed_crease += changed && creases[i];
+        }
+        EXPECT_GT(changed_silhouette, 50u) << "fast " << fast;
+        EXPECT_GT(changed_crease, 50u) << "fast " << fast;
+    }
+}
+
 // Decals piled on each other (48 of them, each over several others): where their edges cross
 // inside one footprint, each tap blends them in order (docs/pixel-filter.md step 3) as the
 // renderer's samples do. Measured away from silhouettes, blackman-harris:3: 49.28 dB stacked per

@@ -17,17 +17,23 @@ namespace decalcomp {
 // measured fastest on the device's type: a work-item per tile on CPUs; on GPUs the grouped coarse
 // counts, and the grouped tile bounds and tests on frames with few tiles per compute unit.
 enum class TileKernels { Device, Groups, Serial };
+// How filtered frames' window scans (kernels/clean_depth.h) learn which neighbours are clean: from a
+// plane a pass fills for every pixel first (GPUs: the scans' chains of loads shrink 5-fold), or by
+// testing each neighbour's 4-neighbours (CPUs: the scans are rare and the pass costs more); Device
+// picks by the device type.
+enum class CleanDepths { Device, Plane, Scan };
 
 struct CompositeOptions {
     bool binned = true;                              // false: every pixel tests every decal (for tests and benchmarks)
     TileKernels tile_kernels = TileKernels::Device;  // the same lists either way (tests compare them)
+    CleanDepths clean_depths = CleanDepths::Device;  // the same results either way (tests compare them)
 };
 
 struct CompositeStats {
     int decals = 0;
     int tiles = 0;
     std::int64_t bin_entries = 0;  // sum over tiles of the tile's decal count
-    // Device time from profiling events, milliseconds.
+    // Device time from profiling events, milliseconds (shading: with filtered frames' clean-depth pass).
     double tile_bounds_ms = 0, binning_ms = 0, shading_ms = 0;
     // binning_ms in its steps: decal bounds and the coarse lists (level 1), the tiles' tests and
     // counts, their prefix sum, and the tile lists' fill

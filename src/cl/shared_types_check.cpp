@@ -57,7 +57,7 @@ DC_CHECK(DC_OFFSET(DcFrame, light_fit) == 304);
 DC_CHECK(DC_OFFSET(DcFrame, filter_taps) == 320);
 DC_CHECK(DC_OFFSET(DcFrame, filter_step) == 324);
 DC_CHECK(DC_OFFSET(DcFrame, filter_radius) == 328);
-DC_CHECK(DC_OFFSET(DcFrame, pad3) == 332);
+DC_CHECK(DC_OFFSET(DcFrame, clean_plane) == 332);
 DC_CHECK(DC_OFFSET(DcFrame, filter_offset) == 336);
 DC_CHECK(DC_OFFSET(DcFrame, filter_weight) == 368);
 DC_CHECK(DC_OFFSET(DcFrame, filter_box) == 400);

@@ -115,6 +115,8 @@ struct Compositor::State {
     // Filtered frames: surface groups 0 and 1 as uploaded. Split silhouette pixels read their
     // neighbours' albedo and normal, which the shading kernel changes in place meanwhile.
     std::array<cl::Buffer, 2> original;
+    // Filtered frames: each pixel's view depth where it is clean, else NaN (kernels/clean_depth.h).
+    cl::Buffer clean_depths;
     cl::Buffer frame_buffer, decal_buffer, bounds, tile_depth, coarse_depth, coarse_counts, coarse_offsets, chunk_masks,
         chunk_starts, coarse_lists, tile_counts, tile_offsets, tile_decals, totals_buffer;
     // Per coarse-list entry, a flag for each tile of its coarse tile: the binning's count pass
@@ -310,6 +312,11 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         for (int g = 0; g < 2; ++g)
             reserve(context, s.original[std::size_t(g)],
                     (filtered && surface.used[std::size_t(g)] ? pixels : 1) * sizeof(cl_float4));
+        const bool clean_plane =
+            filtered &&
+            (options.clean_depths == CleanDepths::Device ? !s.cpu : options.clean_depths == CleanDepths::Plane);
+        params.clean_plane = clean_plane ? 1 : 0;
+        reserve(context, s.clean_depths, (clean_plane ? pixels : 1) * sizeof(float));
         s.masks.reserve(context, queue, std::max<std::size_t>(s.mask_count * pixels, 1) * sizeof(float), s.unified);
         const std::size_t light_terms = beauty ? deviceLightTerms(*beauty, fold_light) : 0;
         s.beauty.reserve(context, queue, (beauty ? pixels : 1) * kBeautyPixelBytes, s.unified);
@@ -487,12 +494,19 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 if (filtered && surface.used[std::size_t(g)])
                     queue.enqueueCopyBuffer(s.surface[std::size_t(g)].device(), s.original[std::size_t(g)], 0, 0,
                                             pixels * sizeof(cl_float4));
+            cl::Event e_clean;
+            if (clean_plane)
+                e_clean = k.clean_depths(cl::EnqueueArgs(queue,
+                                                         cl::NDRange(roundUp(std::size_t(frame.width), DC_TILE_SIZE),
+                                                                     roundUp(std::size_t(frame.height), DC_TILE_SIZE)),
+                                                         cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE)),
+                                         s.frame_buffer, depth, position, s.clean_depths);
             const cl::Event e_shade =
                 shade(shade_range, s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(),
-                      s.surface[2].device(), s.original[0], s.original[1], s.decal_buffer, s.texture_table, s.texels,
-                      s.tile_offsets, s.tile_decals, s.bounds, cl_int(binned ? 1 : 0), cl_int(s.list_capacity),
-                      s.masks.device(), occlusion_maps, s.beauty.device(), s.light.device(), s.rest_pass.points,
-                      s.rest_pass.frames);
+                      s.surface[2].device(), s.original[0], s.original[1], s.clean_depths, s.decal_buffer,
+                      s.texture_table, s.texels, s.tile_offsets, s.tile_decals, s.bounds, cl_int(binned ? 1 : 0),
+                      cl_int(s.list_capacity), s.masks.device(), occlusion_maps, s.beauty.device(), s.light.device(),
+                      s.rest_pass.points, s.rest_pass.frames);
             // Only the groups that hold a changed attribute come back, run by run, each unpacked
             // while the next is still on its way.
             std::vector<std::array<cl::Event, kSurfaceGroups>> downloaded(static_cast<std::size_t>(runs));
@@ -551,7 +565,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             }
             queue.finish();
             if (s.profiling) {
-                stats.shading_ms = eventMs(e_shade);
+                stats.shading_ms = eventMs(e_shade) + (clean_plane ? eventMs(e_clean) : 0.0);
                 if (!occlusion.occluders.empty()) stats.occlusion_ms = eventMs(e_occlusion);
                 for (const cl::Event& e : e_rest) stats.rest_ms += eventMs(e);
                 if (binned) {

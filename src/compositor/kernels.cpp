@@ -29,6 +29,7 @@ CompositorKernels::CompositorKernels(const cl::Program& program)
       occlusion_build(program, "dc_occlusion_build"),
       rest_lookup(program, "dc_rest_lookup"),
       rest_frame(program, "dc_rest_frame"),
+      clean_depths(program, "dc_clean_depths"),
       point_shade_{Shade(program, "dc_shade_point"), Shade(program, "dc_shade_point_albedo"),
                    Shade(program, "dc_shade_point_flat"), Shade(program, "dc_shade_point_albedo_flat")} {}
 

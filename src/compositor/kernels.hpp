@@ -46,13 +46,15 @@ struct CompositorKernels {
         rest_lookup;
     // frame, binding, depth, position, surface group 1, vertices, triangles, rest points, rest frames
     cl::KernelFunctor<Buffer, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer> rest_frame;
-    // frame, depth, position, surface groups 0-2 (in place), groups 0-1 as uploaded (filtered frames),
-    // decals, texture table, texels,
+    // frame, depth plane, position plane, clean depths (filtered frames, kernels/clean_depth.h)
+    cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer> clean_depths;
+    // frame, depth, position, surface groups 0-2 (in place), groups 0-1 as uploaded and clean depths
+    // (filtered frames), decals, texture table, texels,
     // tile offsets, tile lists, decal bounds, binned, list capacity, mask weights, occlusion maps,
     // beauty, light, rest points, rest frames
-    using Shade =
-        cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
-                          Buffer, Buffer, Buffer, cl_int, cl_int, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer>;
+    using Shade = cl::KernelFunctor<Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer, Buffer,
+                                    Buffer, Buffer, Buffer, Buffer, Buffer, cl_int, cl_int, Buffer, Buffer, Buffer,
+                                    Buffer, Buffer, Buffer>;
     // The shading kernel of a variant (DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT | DC_VARIANT_POINT
     // bits): with DC_VARIANT_POINT, the point program's; without, `dc_shade` of
     // device.shadingProgram(variant, paths), built and taken the first time it is asked for.

@@ -90,6 +90,7 @@ struct Options {
     bool beauty = false;                  // also rebuild a beauty from two light terms (synth_light.hpp)
     std::string pixel_filter = "none";    // decals integrated over this pixel filter (pixel_filter.hpp)
     std::string tile_kernels = "device";  // binning's per-tile kernels (CompositeOptions::tile_kernels)
+    std::string clean_depths = "device";  // filtered frames' clean neighbours (CompositeOptions::clean_depths)
 };
 
 // The beauty update's planes for a frame: the synthetic sun and sky, divided (Blender-style).
@@ -109,13 +110,16 @@ TileKernels tileKernels(const std::string& name) {
     return name == "groups" ? TileKernels::Groups : name == "serial" ? TileKernels::Serial : TileKernels::Device;
 }
 
-Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camera, int decals, bool binned, int repeat,
-               const BeautyPlanes* beauty, TileKernels tile_kernels) {
+CleanDepths cleanDepths(const std::string& name) {
+    return name == "plane" ? CleanDepths::Plane : name == "scan" ? CleanDepths::Scan : CleanDepths::Device;
+}
+
+Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camera, int decals, int repeat,
+               const BeautyPlanes* beauty, const CompositeOptions& options) {
     Result r;
     r.size = {frame.width, frame.height};
     r.decals = decals;
-    r.binned = binned;
-    const CompositeOptions options{binned, tile_kernels};
+    r.binned = options.binned;
     const Plane pristine = frame.planes.at(Attribute::Albedo);
     GBuffer work = frame;
     std::optional<BeautyPlanes> work_beauty;
@@ -136,7 +140,7 @@ Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camer
         fmt::print(stderr, "warning: {} tiles, expected {} for {}-pixel tiles; test ratios are off\n", warm.tiles,
                    expected_tiles, kTileSize);
     r.bin_entries = warm.bin_entries;
-    if (binned) {
+    if (options.binned) {
         const BinningResult b = compositor.lastBinning();
         const std::size_t tiles = std::size_t(b.tiles_x) * std::size_t(b.tiles_y);
         for (std::size_t t = 0; t < tiles && t + 1 < b.tile_offsets.size(); ++t)
@@ -338,6 +342,10 @@ int main(int argc, char** argv) {
            "binning's per-tile kernels: device (by the device: work-items on CPUs; on GPUs grouped coarse counts, "
            "and grouped tile bounds and tests on frames with few tiles per compute unit), groups or serial")
         ->check(CLI::IsMember({"device", "groups", "serial"}));
+    app.add_option("--clean-depths", opt.clean_depths,
+                   "how filtered frames' silhouette and crease scans learn which neighbours are clean: device (a "
+                   "plane filled first on GPUs, each neighbour tested on CPUs), plane or scan")
+        ->check(CLI::IsMember({"device", "plane", "scan"}));
     bool texture_space = false;
     app.add_flag("--texture-space", texture_space,
                  "instead: a texture-space box decal on a 102,400-triangle tube against the same box in the world "
@@ -465,9 +473,12 @@ int main(int argc, char** argv) {
                         continue;
                     }
                     const auto t0 = std::chrono::steady_clock::now();
-                    results.push_back(runCase(compositor, frame, camera, count, binned, opt.repeat,
-                                              beauty_planes ? &*beauty_planes : nullptr,
-                                              tileKernels(opt.tile_kernels)));
+                    CompositeOptions options;
+                    options.binned = binned;
+                    options.tile_kernels = tileKernels(opt.tile_kernels);
+                    options.clean_depths = cleanDepths(opt.clean_depths);
+                    results.push_back(runCase(compositor, frame, camera, count, opt.repeat,
+                                              beauty_planes ? &*beauty_planes : nullptr, options));
                     fmt::print(info, " kernel {} ms ({:.1f} s)\n", ms(results.back().kernel_ms),
                                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
                     std::fflush(info);
