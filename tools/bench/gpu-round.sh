@@ -113,6 +113,18 @@ for round in 1 2; do
 done
 }
 
+# Filtered frames' clean neighbours: the plane a pass fills first (the GPU's default) against each
+# neighbour tested where the silhouette and crease splits scan, alternated twice (not in the default
+# SECTIONS; run after filter, which builds the shading programs)
+section_cleandepths() {
+for round in 1 2; do
+    for clean in plane scan; do
+        step "clean-$clean-$round" --repeat 10 --sizes 1920x1080 --counts 1024 --modes binned --no-transfers \
+            --pixel-filter blackman-harris:3:fast --clean-depths $clean
+    done
+done
+}
+
 for section in $SECTIONS; do section_$section; done
 date -u >>"$OUT/machine.txt"
 save_cache
