@@ -475,12 +475,14 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
     /* the tile's list before the pixel's point: tiles no decal reaches read nothing but it */
     if (begin >= end) return;
     /* Every pixel of a listed tile writes its beauty change, 0 where nothing changed: the host adds
-     * the changes of exactly those tiles (beauty_transfer.hpp), and the kernel never reads the beauty. */
+     * the changes of exactly those tiles (beauty_transfer.hpp), and the kernel never reads the beauty.
+     * With one light term that no neighbour reads (change_in_light), the change takes the place of
+     * the pixel's term, which it loaded before: a CPU then writes lines already in its cache. */
     const float3 change = dc_shade_listed_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2,
                                                 original0, original1, clean_depths, decals, textures, texels, tile_decals,
                                                 decal_bounds, binned, begin, end, mask_weights, occlusion_maps, light,
                                                 rest_points, rest_frames, variant, x, y);
-    if (frame->beauty) vstore3(change, i, beauty);
+    if (frame->beauty) vstore3(change, i, frame->change_in_light ? light : beauty);
 }
 
 #define DC_SHADE_ARGUMENTS                                                                                       \

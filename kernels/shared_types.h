@@ -125,7 +125,7 @@ typedef struct {
     DC_INT relight;         /* 1: direct light scaled by the Lambert ratio of new and old normal */
     DC_INT rest_frames;     /* 1: the rest pass left each pixel's rest -> camera rotation (rest_pose.h) */
     DC_INT rest_decals;     /* 1: some decal is texture-space (its rest_binding >= 0) */
-    DC_INT pad2;
+    DC_INT change_in_light; /* 1: the beauty's change overwrites the one light term (beauty_transfer.hpp) */
     DC_FLOAT light_fit[4]; /* direct light ~ max(0, [3] + dot([0..2], world normal)) */
     /* Decals integrated over the renderer's pixel filter (docs/pixel-filter.md): filter_taps per
      * axis (0: point-sampled at the pixel centre), at filter_offset pixels from the centre with

@@ -53,6 +53,7 @@ DC_CHECK(DC_OFFSET(DcFrame, beauty_emission) == 284);
 DC_CHECK(DC_OFFSET(DcFrame, relight) == 288);
 DC_CHECK(DC_OFFSET(DcFrame, rest_frames) == 292);
 DC_CHECK(DC_OFFSET(DcFrame, rest_decals) == 296);
+DC_CHECK(DC_OFFSET(DcFrame, change_in_light) == 300);
 DC_CHECK(DC_OFFSET(DcFrame, light_fit) == 304);
 DC_CHECK(DC_OFFSET(DcFrame, filter_taps) == 320);
 DC_CHECK(DC_OFFSET(DcFrame, filter_step) == 324);

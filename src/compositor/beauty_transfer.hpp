@@ -30,6 +30,9 @@ void checkBeautyPlanes(const BeautyPlanes& planes, std::size_t pixels);
 // The kernel never reads the beauty: it writes the beauty's change at every pixel of a tile with a
 // decal listed on it, and the host adds the changes (kernels/beauty.h). A changed pixel costs the
 // device its light terms' reads alone, and the beauty crosses to the device not at all.
+// With one folded term (foldsLightTerms), which only its own pixel reads, the changes overwrite the
+// term in its buffer (DcFrame::change_in_light): a CPU device then writes cache lines it has just
+// read instead of fetching a second buffer's lines to write them.
 
 // Where the kernel wrote changes: the pixels of tiles (DC_TILE_SIZE square, `tiles_x` per row) whose
 // list in the binning's `tile_offsets` (tiles + 1) is not empty; unbinned (no offsets), every pixel

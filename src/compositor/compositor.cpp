@@ -319,7 +319,11 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
         reserve(context, s.clean_depths, (clean_plane ? pixels : 1) * sizeof(float));
         s.masks.reserve(context, queue, std::max<std::size_t>(s.mask_count * pixels, 1) * sizeof(float), s.unified);
         const std::size_t light_terms = beauty ? deviceLightTerms(*beauty, fold_light) : 0;
-        s.beauty.reserve(context, queue, (beauty ? pixels : 1) * kBeautyPixelBytes, s.unified);
+        // one folded term, read by its own pixel alone: the changes overwrite it (beauty_transfer.hpp)
+        const bool change_in_light = fold_light && light_terms == 1;
+        params.change_in_light = change_in_light ? 1 : 0;
+        s.beauty.reserve(context, queue, (beauty && !change_in_light ? pixels : 1) * kBeautyPixelBytes, s.unified);
+        StagedBuffer& changes = change_in_light ? s.light : s.beauty;
         if (beauty && binned) s.beauty_tile_offsets.resize(tiles + 1);
         s.light.reserve(context, queue, std::max<std::size_t>(light_terms * pixels, 1) * kBeautyPixelBytes, s.unified);
         reserve(context, s.decal_buffer, decals * sizeof(cl_types::DcDecal));
@@ -520,7 +524,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             }
             const bool light_back = beauty && beauty->lightRewritten() && light_terms > 0;
             cl::Event beauty_downloaded, light_downloaded;
-            if (beauty) s.beauty.enqueueDownload(queue, 0, pixels * kBeautyPixelBytes, &beauty_downloaded);
+            if (beauty) changes.enqueueDownload(queue, 0, pixels * kBeautyPixelBytes, &beauty_downloaded);
             // which tiles the beauty's changes were written for (beauty_transfer.hpp)
             if (beauty && binned)
                 queue.enqueueReadBuffer(s.tile_offsets, CL_FALSE, 0, (tiles + 1) * sizeof(cl_int),
@@ -553,14 +557,14 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             if (beauty) {
                 queue.finish();
                 const auto* beauty_result =
-                    static_cast<const float*>(s.beauty.beginDownload(queue, pixels * kBeautyPixelBytes));
+                    static_cast<const float*>(changes.beginDownload(queue, pixels * kBeautyPixelBytes));
                 const auto* light_result = light_back ? static_cast<const float*>(s.light.beginDownload(
                                                             queue, light_terms * pixels * kBeautyPixelBytes))
                                                       : nullptr;
                 const BeautyChangeTiles where{binned ? s.beauty_tile_offsets.data() : nullptr, params.tiles_x,
                                               int(decals)};
                 unpackBeautyPlanes(*beauty, frame.width, frame.height, where, beauty_result, light_result);
-                s.beauty.endDownload(queue);
+                changes.endDownload(queue);
                 if (light_back) s.light.endDownload(queue);
             }
             queue.finish();
