@@ -403,16 +403,10 @@ inline DcTaps dc_taps(__constant const DcFrame* f, __global const float* depth_p
                       int y, float3 p, float3 n) {
     DcTaps t;
     t.mode = DC_TAPS_POINT;
-    /* the 4-neighbours' view depths (planar depth reads them without unprojecting): beside
-     * background the pixel is point-sampled; their largest step tells silhouettes */
-    float depth_step = 0.0f;
-    for (int k = 0; k < 4; ++k) {
-        const int nx = x + (k == 0) - (k == 1), ny = y + (k == 2) - (k == 3);
-        float zn;
-        if (nx < 0 || ny < 0 || nx >= f->width || ny >= f->height) continue;
-        if (!dc_view_depth(f, depth_plane, position_plane, nx, ny, &zn)) return t;
-        depth_step = fmax(depth_step, fabs(zn + p.z));
-    }
+    /* the 4-neighbours' largest view-depth step (planar depth reads them without unprojecting):
+     * beside background (MAXFLOAT) the pixel is point-sampled; the step tells silhouettes */
+    const float depth_step = dc_depth_step(f, depth_plane, position_plane, x, y, -p.z);
+    if (depth_step == MAXFLOAT) return t;
     dc_pixel_rays(f, x, y, &t.rays);
     if (dc_tap_plane(f, &t.rays, p, n, &t.plane)) t.mode = DC_TAPS_PLANE;
     dc_split_silhouette(f, depth_plane, position_plane, original0, original1, clean_depths, has_normal, x, y, p,

@@ -479,9 +479,9 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
      * With one light term that no neighbour reads (change_in_light), the change takes the place of
      * the pixel's term, which it loaded before: a CPU then writes lines already in its cache. */
     const float3 change = dc_shade_listed_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2,
-                                                original0, original1, clean_depths, decals, textures, texels, tile_decals,
-                                                decal_bounds, binned, begin, end, mask_weights, occlusion_maps, light,
-                                                rest_points, rest_frames, variant, x, y);
+                                                original0, original1, clean_depths, decals, textures, texels,
+                                                tile_decals, decal_bounds, binned, begin, end, mask_weights,
+                                                occlusion_maps, light, rest_points, rest_frames, variant, x, y);
     if (frame->beauty) vstore3(change, i, frame->change_in_light ? light : beauty);
 }
 

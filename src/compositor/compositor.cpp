@@ -485,26 +485,23 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             // Binned, one work-group per screen tile: its work-items walk the same decal list. Unbinned
             // the same groups: PoCL keeps a work-group's private variables on its thread's stack, and
             // the groups it picks itself for a whole frame (40 x 78) overflowed it.
+            // a work-item per pixel in tile-sized groups (also the clean-depth pass's)
+            const cl::EnqueueArgs pixel_range(queue,
+                                              cl::NDRange(roundUp(std::size_t(frame.width), DC_TILE_SIZE),
+                                                          roundUp(std::size_t(frame.height), DC_TILE_SIZE)),
+                                              cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE));
             const cl::EnqueueArgs shade_range =
                 binned ? cl::EnqueueArgs(queue,
                                          cl::NDRange(std::size_t(params.tiles_x) * DC_TILE_SIZE,
                                                      std::size_t(params.tiles_y) * DC_TILE_SIZE),
                                          cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE))
-                       : cl::EnqueueArgs(queue,
-                                         cl::NDRange(roundUp(std::size_t(frame.width), DC_TILE_SIZE),
-                                                     roundUp(std::size_t(frame.height), DC_TILE_SIZE)),
-                                         cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE));
+                       : pixel_range;
             for (int g = 0; g < 2; ++g)
                 if (filtered && surface.used[std::size_t(g)])
                     queue.enqueueCopyBuffer(s.surface[std::size_t(g)].device(), s.original[std::size_t(g)], 0, 0,
                                             pixels * sizeof(cl_float4));
             cl::Event e_clean;
-            if (clean_plane)
-                e_clean = k.clean_depths(cl::EnqueueArgs(queue,
-                                                         cl::NDRange(roundUp(std::size_t(frame.width), DC_TILE_SIZE),
-                                                                     roundUp(std::size_t(frame.height), DC_TILE_SIZE)),
-                                                         cl::NDRange(DC_TILE_SIZE, DC_TILE_SIZE)),
-                                         s.frame_buffer, depth, position, s.clean_depths);
+            if (clean_plane) e_clean = k.clean_depths(pixel_range, s.frame_buffer, depth, position, s.clean_depths);
             const cl::Event e_shade =
                 shade(shade_range, s.frame_buffer, depth, position, s.surface[0].device(), s.surface[1].device(),
                       s.surface[2].device(), s.original[0], s.original[1], s.clean_depths, s.decal_buffer,
