@@ -121,5 +121,21 @@ TEST(KernelSources, BuildLogNamesKernelFileAndLine) {
     EXPECT_NE(message.find("dc_no_such_identifier"), std::string::npos) << message;
 }
 
+// The shading programs' register cap: on NVIDIA's compiler only (its option would fail elsewhere),
+// 128 by default, DECALCOMP_SHADING_REGISTERS instead, 0 for none.
+TEST(KernelSources, ShadingRegisterCapOnlyWhereTheCompilerTakesIt) {
+    ASSERT_EQ(0, unsetenv("DECALCOMP_SHADING_REGISTERS"));
+    const std::string nvidia = "cl_khr_fp64 cl_nv_compiler_options cl_nv_device_attribute_query";
+    EXPECT_EQ(shadingRegisterCap(nvidia), " -cl-nv-maxrregcount=128");
+    EXPECT_EQ(shadingRegisterCap("cl_khr_fp64 cl_khr_icd"), "");
+    EXPECT_EQ(shadingRegisterCap(""), "");
+    ASSERT_EQ(0, setenv("DECALCOMP_SHADING_REGISTERS", "96", 1));
+    EXPECT_EQ(shadingRegisterCap(nvidia), " -cl-nv-maxrregcount=96");
+    EXPECT_EQ(shadingRegisterCap("cl_khr_fp64"), "");
+    ASSERT_EQ(0, setenv("DECALCOMP_SHADING_REGISTERS", "0", 1));
+    EXPECT_EQ(shadingRegisterCap(nvidia), "");
+    ASSERT_EQ(0, unsetenv("DECALCOMP_SHADING_REGISTERS"));
+}
+
 }  // namespace
 }  // namespace decalcomp

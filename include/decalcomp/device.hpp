@@ -107,5 +107,9 @@ std::chrono::milliseconds slowBuildNoticeAfter();
 std::string programSource();
 // Options used for every build.
 std::string buildOptions();
+// The register cap the shading programs of filtered and texture-space frames build with on a
+// device offering these extensions: " -cl-nv-maxrregcount=128" on NVIDIA (cl_nv_compiler_options;
+// docs/decisions.md), DECALCOMP_SHADING_REGISTERS=N instead where set (0: none); "" elsewhere.
+std::string shadingRegisterCap(const std::string& device_extensions);
 
 }  // namespace decalcomp

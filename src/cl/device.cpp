@@ -6,6 +6,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <functional>
 #include <iostream>
 
 #include "build_watch.hpp"
@@ -192,11 +194,27 @@ cl::Program& ComputeDevice::shadingProgram(int variant, const ShadingPaths& path
     if (paths.fast) what += fmt::format("{}the pixel filter in closed form", what.empty() ? "" : ", ");
     if (paths.rest) what += fmt::format("{}texture-space decals", what.empty() ? "" : ", ");
     return buildOnce(*lazy,
-                     fmt::format("{} -DDC_SHADING_PROGRAM -DDC_SHADE_VARIANT={} -DDC_PATH_TAPS={:d} "
+                     fmt::format("{}{} -DDC_SHADING_PROGRAM -DDC_SHADE_VARIANT={} -DDC_PATH_TAPS={:d} "
                                  "-DDC_PATH_FAST={:d} -DDC_PATH_REST={:d}",
-                                 buildOptions(), variant, paths.taps, paths.fast, paths.rest),
+                                 buildOptions(), shadingRegisterCap(info_.device.getInfo<CL_DEVICE_EXTENSIONS>()),
+                                 variant, paths.taps, paths.fast, paths.rest),
                      "shading with " + (what.empty() ? std::string("no path") : what));
 }
+
+namespace {
+
+// The device's binary of a built program (PTX on NVIDIA: where registers spill, which loads
+// go to local memory), as DIR/program-<hash of the options>.bin, for kernel work.
+void writeProgramBinary(const cl::Program& program, const std::string& dir, const std::string& options) {
+    const auto binaries = program.getInfo<CL_PROGRAM_BINARIES>();
+    if (binaries.empty()) return;
+    const std::string path = fmt::format("{}/program-{:016x}.bin", dir, std::hash<std::string>{}(options));
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(binaries.front().data()), std::streamsize(binaries.front().size()));
+    std::cerr << "program binary (options '" << options << "'): " << path << "\n";
+}
+
+}  // namespace
 
 cl::Program ComputeDevice::build(const std::string& options, const std::string& what) {
     const BuildWatch watch(slow_build_after_, slow_build_notice_,
@@ -209,6 +227,7 @@ cl::Program ComputeDevice::build(const std::string& options, const std::string& 
         program.build({info_.device}, options.c_str());
         if (std::getenv("DECALCOMP_CL_BUILD_LOG"))  // the compiler's notes even on success
             std::cerr << program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device) << "\n";
+        if (const char* dir = std::getenv("DECALCOMP_CL_BINARY_DIR")) writeProgramBinary(program, dir, options);
     } catch (const cl::BuildError& e) {
         std::string log;
         for (const auto& [device, text] : e.getBuildLog()) log += text;

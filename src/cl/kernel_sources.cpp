@@ -90,6 +90,19 @@ std::string programSource() {
     return std::string(embedded::kProgramSource);
 }
 
+// Registers per work-item the shading programs may take on NVIDIA's compiler. Left to itself it
+// gave the filter's kernels 221 (taps 225), which holds an H100 to 9 warps per multiprocessor; at
+// 128 (16 warps) `:fast` ran 27 % faster although a few values spill (docs/benchmarks.md "The
+// shading programs' register cap").
+constexpr int kShadingRegisterCap = 128;
+
+std::string shadingRegisterCap(const std::string& device_extensions) {
+    if (device_extensions.find("cl_nv_compiler_options") == std::string::npos) return "";
+    int cap = kShadingRegisterCap;
+    if (const char* forced = std::getenv("DECALCOMP_SHADING_REGISTERS")) cap = std::atoi(forced);
+    return cap > 0 ? fmt::format(" -cl-nv-maxrregcount={}", cap) : "";
+}
+
 // DECALCOMP_CL_OPTIONS appends options (e.g. "-cl-nv-verbose" to see register use on NVIDIA).
 std::string buildOptions() {
     std::string options = "-cl-std=CL1.2";
