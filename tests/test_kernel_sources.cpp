@@ -121,19 +121,27 @@ TEST(KernelSources, BuildLogNamesKernelFileAndLine) {
     EXPECT_NE(message.find("dc_no_such_identifier"), std::string::npos) << message;
 }
 
-// The shading programs' register cap: on NVIDIA's compiler only (its option would fail elsewhere),
-// 128 by default, DECALCOMP_SHADING_REGISTERS instead, 0 for none.
-TEST(KernelSources, ShadingRegisterCapOnlyWhereTheCompilerTakesIt) {
+// The programs' register caps: on NVIDIA's compiler only (its option would fail elsewhere), 64 for
+// the point program and 128 for the shading programs by default, each overridden by its variable,
+// 0 for none.
+TEST(KernelSources, RegisterCapsOnlyWhereTheCompilerTakesThem) {
+    ASSERT_EQ(0, unsetenv("DECALCOMP_POINT_REGISTERS"));
     ASSERT_EQ(0, unsetenv("DECALCOMP_SHADING_REGISTERS"));
     const std::string nvidia = "cl_khr_fp64 cl_nv_compiler_options cl_nv_device_attribute_query";
-    EXPECT_EQ(shadingRegisterCap(nvidia), " -cl-nv-maxrregcount=128");
-    EXPECT_EQ(shadingRegisterCap("cl_khr_fp64 cl_khr_icd"), "");
-    EXPECT_EQ(shadingRegisterCap(""), "");
+    EXPECT_EQ(registerCap(nvidia, ProgramKind::Point), " -cl-nv-maxrregcount=64");
+    EXPECT_EQ(registerCap(nvidia, ProgramKind::Shading), " -cl-nv-maxrregcount=128");
+    for (const ProgramKind kind : {ProgramKind::Point, ProgramKind::Shading}) {
+        EXPECT_EQ(registerCap("cl_khr_fp64 cl_khr_icd", kind), "");
+        EXPECT_EQ(registerCap("", kind), "");
+    }
     ASSERT_EQ(0, setenv("DECALCOMP_SHADING_REGISTERS", "96", 1));
-    EXPECT_EQ(shadingRegisterCap(nvidia), " -cl-nv-maxrregcount=96");
-    EXPECT_EQ(shadingRegisterCap("cl_khr_fp64"), "");
-    ASSERT_EQ(0, setenv("DECALCOMP_SHADING_REGISTERS", "0", 1));
-    EXPECT_EQ(shadingRegisterCap(nvidia), "");
+    EXPECT_EQ(registerCap(nvidia, ProgramKind::Shading), " -cl-nv-maxrregcount=96");
+    EXPECT_EQ(registerCap(nvidia, ProgramKind::Point), " -cl-nv-maxrregcount=64");
+    EXPECT_EQ(registerCap("cl_khr_fp64", ProgramKind::Shading), "");
+    ASSERT_EQ(0, setenv("DECALCOMP_POINT_REGISTERS", "0", 1));
+    EXPECT_EQ(registerCap(nvidia, ProgramKind::Point), "");
+    EXPECT_EQ(registerCap(nvidia, ProgramKind::Shading), " -cl-nv-maxrregcount=96");
+    ASSERT_EQ(0, unsetenv("DECALCOMP_POINT_REGISTERS"));
     ASSERT_EQ(0, unsetenv("DECALCOMP_SHADING_REGISTERS"));
 }
 

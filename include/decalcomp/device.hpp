@@ -107,9 +107,15 @@ std::chrono::milliseconds slowBuildNoticeAfter();
 std::string programSource();
 // Options used for every build.
 std::string buildOptions();
-// The register cap the shading programs of filtered and texture-space frames build with on a
-// device offering these extensions: " -cl-nv-maxrregcount=128" on NVIDIA (cl_nv_compiler_options;
-// docs/decisions.md), DECALCOMP_SHADING_REGISTERS=N instead where set (0: none); "" elsewhere.
-std::string shadingRegisterCap(const std::string& device_extensions);
+// The programs ComputeDevice builds, for their register caps.
+enum class ProgramKind {
+    Point,    // binning and point-sampled shading (ComputeDevice::program)
+    Shading,  // the shading of filtered and texture-space frames (ComputeDevice::shadingProgram)
+};
+// The register cap a program builds with on a device offering these extensions: on NVIDIA
+// (cl_nv_compiler_options) " -cl-nv-maxrregcount=64" for the point program and 128 for the shading
+// programs (docs/decisions.md), or DECALCOMP_POINT_REGISTERS / DECALCOMP_SHADING_REGISTERS where
+// set (0: none); "" elsewhere.
+std::string registerCap(const std::string& device_extensions, ProgramKind program);
 
 }  // namespace decalcomp

@@ -90,16 +90,21 @@ std::string programSource() {
     return std::string(embedded::kProgramSource);
 }
 
-// Registers per work-item the shading programs may take on NVIDIA's compiler. Left to itself it
-// gave the filter's kernels 221 (taps 225), which holds an H100 to 9 warps per multiprocessor; at
-// 128 (16 warps) `:fast` ran 27 % faster although a few values spill (docs/benchmarks.md "The
-// shading programs' register cap").
+// Registers per work-item NVIDIA's compiler may give a program's kernels, measured on an H100 at
+// 1080p with 1024 decals (docs/benchmarks.md "The shading programs' register cap" and "The point
+// program's register cap"). Left to itself it gave the filter's shading 221 (taps 225), 9 warps
+// per multiprocessor; at 128 (16 warps) `:fast` ran 27 % faster and the taps 38 %, although a few
+// values spill. The point kernels took 96-153; at 64 (32 warps) they ran 16-34 % faster; 48
+// spilled more than the warps gained.
+constexpr int kPointRegisterCap = 64;
 constexpr int kShadingRegisterCap = 128;
 
-std::string shadingRegisterCap(const std::string& device_extensions) {
+std::string registerCap(const std::string& device_extensions, ProgramKind program) {
     if (device_extensions.find("cl_nv_compiler_options") == std::string::npos) return "";
-    int cap = kShadingRegisterCap;
-    if (const char* forced = std::getenv("DECALCOMP_SHADING_REGISTERS")) cap = std::atoi(forced);
+    const bool point = program == ProgramKind::Point;
+    int cap = point ? kPointRegisterCap : kShadingRegisterCap;
+    if (const char* forced = std::getenv(point ? "DECALCOMP_POINT_REGISTERS" : "DECALCOMP_SHADING_REGISTERS"))
+        cap = std::atoi(forced);
     return cap > 0 ? fmt::format(" -cl-nv-maxrregcount={}", cap) : "";
 }
 
