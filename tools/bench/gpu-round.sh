@@ -125,6 +125,27 @@ for round in 1 2; do
 done
 }
 
+# The programs' register caps (docs/decisions.md): the shipped caps against none
+# (DECALCOMP_POINT_REGISTERS=0 and DECALCOMP_SHADING_REGISTERS=0), point-sampled with and without
+# the beauty and filtered, alternated twice (not in the default SECTIONS; the uncapped programs
+# build cold the first time)
+section_caps() {
+for round in 1 2; do
+    for caps in shipped none; do
+        E_CAPS=$E
+        [ $caps = none ] && E="env DECALCOMP_POINT_REGISTERS=0 DECALCOMP_SHADING_REGISTERS=0 $E_CAPS"
+        step "caps-$caps-point-$round" --repeat 20 --sizes 1920x1080,3840x2160 --counts 1,1024,4096 --modes binned \
+            --no-transfers
+        step "caps-$caps-beauty-$round" --repeat 20 --sizes 1920x1080 --counts 1024 --modes binned --no-transfers \
+            --beauty
+        step "caps-$caps-fast-$round" --repeat 10 --sizes 1920x1080 --counts 1024 --modes binned --no-transfers \
+            --pixel-filter blackman-harris:3:fast
+        E=$E_CAPS
+        [ "$round" = 1 ] && save_cache
+    done
+done
+}
+
 for section in $SECTIONS; do section_$section; done
 date -u >>"$OUT/machine.txt"
 save_cache
