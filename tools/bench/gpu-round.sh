@@ -128,7 +128,8 @@ done
 # The programs' register caps (docs/decisions.md): the shipped caps against none
 # (DECALCOMP_POINT_REGISTERS=0 and DECALCOMP_SHADING_REGISTERS=0), point-sampled with and without
 # the beauty and filtered, alternated twice (not in the default SECTIONS; the uncapped programs
-# build cold the first time)
+# build cold the first time). Each row's last CSV column, output_hash, hashes the composite's
+# planes: a shipped row and its uncapped twin should hash alike (the cap changes no arithmetic).
 section_caps() {
 for round in 1 2; do
     for caps in shipped none; do

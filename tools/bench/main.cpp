@@ -65,6 +65,7 @@ struct Result {
     double kernel_ms = 0, tile_bounds_ms = 0, binning_ms = 0, shading_ms = 0, wall_ms = 0;
     double kernel_min_ms = 0, kernel_max_ms = 0;
     double bin_coarse_ms = 0, bin_count_ms = 0, bin_scan_ms = 0, bin_fill_ms = 0;  // binning_ms's steps
+    std::uint64_t output_hash = 0;  // outputHash of the first composite
     std::int64_t bin_entries = 0;
     int tiles = 0;
     int max_per_tile = 0;      // longest tile list (binned)
@@ -114,6 +115,21 @@ CleanDepths cleanDepths(const std::string& name) {
     return name == "plane" ? CleanDepths::Plane : name == "scan" ? CleanDepths::Scan : CleanDepths::Device;
 }
 
+// FNV-1a over the bits of a composite's planes and its beauty: the same for devices, drivers and
+// build options that leave the arithmetic alone. The GPU machine runs the bench but not the
+// command line, so its outputs are compared through this (CSV column output_hash).
+std::uint64_t outputHash(const GBuffer& frame, const BeautyPlanes* beauty) {
+    std::uint64_t hash = 0xcbf29ce484222325ull;
+    const auto add = [&](const Plane& plane) {
+        const auto* bytes = reinterpret_cast<const unsigned char*>(plane.samples.data());
+        for (std::size_t i = 0; i < plane.samples.size() * sizeof(float); ++i)
+            hash = (hash ^ bytes[i]) * 0x100000001b3ull;
+    };
+    for (const auto& [attribute, plane] : frame.planes) add(plane);
+    if (beauty) add(beauty->beauty);
+    return hash;
+}
+
 Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camera, int decals, int repeat,
                const BeautyPlanes* beauty, const CompositeOptions& options) {
     Result r;
@@ -130,6 +146,7 @@ Result runCase(Compositor& compositor, const GBuffer& frame, const Camera& camer
     const auto warm0 = std::chrono::steady_clock::now();
     CompositeStats warm = compositor.composite(work, camera, options, work_beauty ? &*work_beauty : nullptr);
     const double warm_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - warm0).count();
+    r.output_hash = outputHash(work, work_beauty ? &*work_beauty : nullptr);
     if (warm_s > 1.0)
         fmt::print(stderr, "{}x{}, {} decals: the warm-up composite took {:.1f} s (a program's build on first use)\n",
                    frame.width, frame.height, decals, warm_s);
@@ -222,19 +239,19 @@ void printTable(const std::vector<Result>& results, std::FILE* out) {
 void writeCsv(const std::vector<Result>& results, std::ostream& out) {
     out << "width,height,decals,mode,status,kernel_ms,kernel_min_ms,kernel_max_ms,tile_bounds_ms,binning_ms,"
            "shading_ms,wall_ms,tiles,bin_entries,mean_per_tile,max_per_tile,bin_coarse_ms,bin_count_ms,bin_scan_ms,"
-           "bin_fill_ms\n";
+           "bin_fill_ms,output_hash\n";
     for (const auto& r : results) {
         out << fmt::format("{},{},{},{},{}", r.size.width, r.size.height, r.decals, r.binned ? "binned" : "unbinned",
                            r.skipped ? "skipped" : "ok");
         if (r.skipped) {
-            out << ",,,,,,,,,,,,,,,\n";
+            out << ",,,,,,,,,,,,,,,,\n";
             continue;
         }
         out << fmt::format(
-            ",{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{},{},{:.3f},{},{:.4f},{:.4f},{:.4f},{:.4f}\n",
+            ",{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{},{},{:.3f},{},{:.4f},{:.4f},{:.4f},{:.4f},{:016x}\n",
             r.kernel_ms, r.kernel_min_ms, r.kernel_max_ms, r.tile_bounds_ms, r.binning_ms, r.shading_ms, r.wall_ms,
             r.tiles, r.binned ? r.bin_entries : 0, r.mean_per_tile, r.max_per_tile, r.bin_coarse_ms, r.bin_count_ms,
-            r.bin_scan_ms, r.bin_fill_ms);
+            r.bin_scan_ms, r.bin_fill_ms, r.output_hash);
     }
 }
 
