@@ -65,7 +65,8 @@ struct Result {
     double kernel_ms = 0, tile_bounds_ms = 0, binning_ms = 0, shading_ms = 0, wall_ms = 0;
     double kernel_min_ms = 0, kernel_max_ms = 0;
     double bin_coarse_ms = 0, bin_count_ms = 0, bin_scan_ms = 0, bin_fill_ms = 0;  // binning_ms's steps
-    std::uint64_t output_hash = 0;  // outputHash of the first composite
+    // outputHash of the first composite
+    std::uint64_t output_hash = 0;
     std::int64_t bin_entries = 0;
     int tiles = 0;
     int max_per_tile = 0;      // longest tile list (binned)
