@@ -214,6 +214,10 @@ void writeProgramBinary(const cl::Program& program, const std::string& dir, cons
     const std::string path = fmt::format("{}/program-{:016x}.bin", dir, std::hash<std::string>{}(options));
     std::ofstream out(path, std::ios::binary);
     out.write(reinterpret_cast<const char*>(binaries.front().data()), std::streamsize(binaries.front().size()));
+    if (!out) {  // a missing folder: say so rather than name a file that is not there
+        std::cerr << "program binary (options '" << options << "'): cannot write " << path << "\n";
+        return;
+    }
     std::cerr << "program binary (options '" << options << "'): " << path << "\n";
 }
 
