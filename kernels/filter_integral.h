@@ -59,22 +59,31 @@ inline float dc_slab_share(__constant const DcFrame* f, float a0, float2 g, floa
 /* Texels per axis an integrated read weights one by one; wider footprints read a coarser level. */
 #define DC_INTEGRATED_TEXELS 12
 
-/* The filter's share of each texel column [i, i + 1) that the texel coordinate c0 + g . (u, v)
- * crosses, from *first; returns how many (0 where the footprint misses the texture). */
-inline int dc_texel_shares(__constant const DcFrame* f, float c0, float2 g, int size, int* first,
-                           float shares[DC_INTEGRATED_TEXELS]) {
+/* The texel columns [i, i + 1) that the texel coordinate c0 + g . (u, v) crosses: `count` of them
+ * from `first` (0 where the footprint misses the texture). dc_texel_share gives each one's share. */
+typedef struct {
+    DcEdgeSpread e;
+    float c0;
+    int first, count;
+} DcTexelSpan;
+
+inline DcTexelSpan dc_texel_span(__constant const DcFrame* f, float c0, float2 g, int size) {
     const float reach = dc_edge_reach(f, g);
-    const int i0 = (int)dc_floor_clamped(clamp(c0 - reach, 0.0f, (float)size - 1.0f));
-    const int i1 = min((int)dc_floor_clamped(clamp(c0 + reach, 0.0f, (float)size - 1.0f)), i0 + DC_INTEGRATED_TEXELS - 1);
-    *first = i0;
-    const DcEdgeSpread e = dc_edge_spread_along(f, g);
-    float below = dc_edge_share(&e, (float)i0 - c0);
-    for (int i = 0; i <= i1 - i0; ++i) {
-        const float next = dc_edge_share(&e, (float)(i0 + i + 1) - c0);
-        shares[i] = next - below;
-        below = next;
-    }
-    return i1 - i0 + 1;
+    DcTexelSpan span;
+    span.first = (int)dc_floor_clamped(clamp(c0 - reach, 0.0f, (float)size - 1.0f));
+    const int last = min((int)dc_floor_clamped(clamp(c0 + reach, 0.0f, (float)size - 1.0f)),
+                         span.first + DC_INTEGRATED_TEXELS - 1);
+    span.count = last - span.first + 1;
+    span.e = dc_edge_spread_along(f, g);
+    span.c0 = c0;
+    return span;
+}
+
+/* The share below column `i` of the span's (its left edge's edge-spread share). The shares are
+ * computed as they are read, not kept in an array: a private array indexed by a loop variable
+ * lives in memory on GPUs (a 96-byte stack slot per array and texture). */
+inline float dc_texel_share_below(const DcTexelSpan* span, int i) {
+    return dc_edge_share(&span->e, (float)(span->first + i) - span->c0);
 }
 
 /* A nearest-filtered 2D texture (a slice) integrated over the filter: texture coordinates st with
@@ -94,16 +103,22 @@ DC_INLINE float4 dc_integrate_slice(__constant const DcFrame* f, __global const 
     }
     const DcTexture t = textures[index + level];
     const float2 size = (float2)((float)t.width, (float)t.height);
-    float share_s[DC_INTEGRATED_TEXELS], share_t[DC_INTEGRATED_TEXELS];
-    int i0, j0;
-    const int ns = dc_texel_shares(f, st.x * size.x, (float2)(st_u.x, st_v.x) * size.x, t.width, &i0, share_s);
-    const int nt = dc_texel_shares(f, st.y * size.y, (float2)(st_u.y, st_v.y) * size.y, t.height, &j0, share_t);
+    const DcTexelSpan ss = dc_texel_span(f, st.x * size.x, (float2)(st_u.x, st_v.x) * size.x, t.width);
+    const DcTexelSpan ts = dc_texel_span(f, st.y * size.y, (float2)(st_u.y, st_v.y) * size.y, t.height);
     float4 sum = (float4)(0.0f);
-    for (int j = 0; j < nt; ++j) {
-        if (!(share_t[j] > 0.0f)) continue;
+    float below_t = dc_texel_share_below(&ts, 0);
+    for (int j = 0; j < ts.count; ++j) {
+        const float next_t = dc_texel_share_below(&ts, j + 1), share_t = next_t - below_t;
+        below_t = next_t;
+        if (!(share_t > 0.0f)) continue;
         float4 row = (float4)(0.0f);
-        for (int i = 0; i < ns; ++i) row += dc_texel(texels, t, i0 + i, j0 + j, slice) * share_s[i];
-        sum += row * share_t[j];
+        float below_s = dc_texel_share_below(&ss, 0);
+        for (int i = 0; i < ss.count; ++i) {
+            const float next_s = dc_texel_share_below(&ss, i + 1);
+            row += dc_texel(texels, t, ss.first + i, ts.first + j, slice) * (next_s - below_s);
+            below_s = next_s;
+        }
+        sum += row * share_t;
     }
     return sum;
 }

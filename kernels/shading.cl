@@ -152,9 +152,43 @@ inline DcSurface dc_split_material(const DcTaps* taps, int side, DcSurface s) {
     return s;
 }
 
+/* One surface of a split pixel for dc_filter_stacked_split: each tap's share on `plane` (the nearer
+ * surface's, or with `far_side` the farther's) starts from the surface's material `base` and blends
+ * every decal of the list reaching it in order (`reach`: dc_reach_mask on this plane). Returns
+ * acc + the sum of w share (out - base). */
+DC_INLINE DcSurface dc_filter_stacked_side(__constant const DcFrame* frame, __global const DcDecal* decals,
+                                           __global const int* tile_decals, int binned, int begin, int end,
+                                           const DcTaps* taps, const DcTapPlane* plane, const int far_side,
+                                           ulong reach, DcSurface base, int has_normal, int x, int y,
+                                           __global const float* mask_weights, __global const DcTexture* textures,
+                                           __global const float4* texels, __global const uint* occlusion_maps,
+                                           DcSurface acc, const int variant, int* touched) {
+    DcSurface sum = dc_surface_add_scaled(base, base, -1.0f);
+    float total = 0.0f;
+    for (int j = 0; j < frame->filter_taps; ++j)
+        for (int i = 0; i < frame->filter_taps; ++i) {
+            const float u = frame->filter_offset[i], v = frame->filter_offset[j];
+            const float near = dc_tap_share(taps, u, v);
+            const float share = far_side ? 1.0f - near : near;
+            if (!(share > 0.0f)) continue;
+            DcSurface out = base;
+            float3 pt;
+            if (dc_tap_point(&taps->rays, plane, u, v, &pt))
+                out = dc_stack_decals(frame, decals, tile_decals, binned, begin, end, reach, plane, pt, has_normal, x,
+                                      y, mask_weights, textures, texels, occlusion_maps, out, variant, touched);
+            const float w = frame->filter_weight[i] * frame->filter_weight[j] * share;
+            sum = dc_surface_add_scaled(sum, out, w);
+            total += w;
+        }
+    if (!(total > 0.0f)) return acc;
+    return dc_surface_add_scaled(dc_surface_add_scaled(acc, sum, 1.0f), base, -total);
+}
+
 /* The split pixel's version of dc_filter_stacked (docs/pixel-filter.md "Silhouettes"): each tap's
  * share on each surface starts from that surface's material and blends every decal reaching it in
- * list order; the pixel keeps its mix and adds each share's change. */
+ * list order; the pixel keeps its mix and adds each share's change. (Two calls with the sides'
+ * fields, not a loop over `side`: a plane or material chosen at run time keeps the taps in memory
+ * on GPUs, 12 % of the closed form's time on an H100.) */
 DC_INLINE DcSurface dc_filter_stacked_split(__constant const DcFrame* frame, __global const DcDecal* decals,
                                             __global const int* tile_decals, int binned, int begin, int end,
                                             const DcTaps* taps, int has_normal, int x, int y,
@@ -164,32 +198,13 @@ DC_INLINE DcSurface dc_filter_stacked_split(__constant const DcFrame* frame, __g
     const ulong reach_near = dc_reach_mask(decals, tile_decals, binned, begin, end, &taps->plane);
     const ulong reach_far = dc_reach_mask(decals, tile_decals, binned, begin, end, &taps->other);
     if ((reach_near | reach_far) == 0 && end - begin <= DC_STACK_MASK_ENTRIES) return s;
-    DcSurface acc = s;
     int touched = 0;
-    for (int side = 0; side < 2; ++side) {
-        const DcTapPlane* plane = side ? &taps->other : &taps->plane;
-        const DcSurface base = dc_split_material(taps, side, s);
-        DcSurface sum = dc_surface_add_scaled(base, base, -1.0f);
-        float total = 0.0f;
-        for (int j = 0; j < frame->filter_taps; ++j)
-            for (int i = 0; i < frame->filter_taps; ++i) {
-                const float u = frame->filter_offset[i], v = frame->filter_offset[j];
-                const float near = dc_tap_share(taps, u, v);
-                const float share = side ? 1.0f - near : near;
-                if (!(share > 0.0f)) continue;
-                DcSurface out = base;
-                float3 pt;
-                if (dc_tap_point(&taps->rays, plane, u, v, &pt))
-                    out = dc_stack_decals(frame, decals, tile_decals, binned, begin, end, side ? reach_far : reach_near,
-                                          plane, pt, has_normal, x, y, mask_weights, textures, texels, occlusion_maps,
-                                          out, variant, &touched);
-                const float w = frame->filter_weight[i] * frame->filter_weight[j] * share;
-                sum = dc_surface_add_scaled(sum, out, w);
-                total += w;
-            }
-        /* s + sum (w share (out - base)) */
-        if (total > 0.0f) acc = dc_surface_add_scaled(dc_surface_add_scaled(acc, sum, 1.0f), base, -total);
-    }
+    DcSurface acc = dc_filter_stacked_side(frame, decals, tile_decals, binned, begin, end, taps, &taps->plane, 0,
+                                           reach_near, dc_split_material(taps, 0, s), has_normal, x, y, mask_weights,
+                                           textures, texels, occlusion_maps, s, variant, &touched);
+    acc = dc_filter_stacked_side(frame, decals, tile_decals, binned, begin, end, taps, &taps->other, 1, reach_far,
+                                 dc_split_material(taps, 1, s), has_normal, x, y, mask_weights, textures, texels,
+                                 occlusion_maps, acc, variant, &touched);
     if (!touched) return s;
     if (acc.normal_changed && length(acc.normal) > 1e-6f) acc.normal = normalize(acc.normal);
     *applied = 1;

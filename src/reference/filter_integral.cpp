@@ -21,7 +21,7 @@ bool texelEdges(const Decal& d) {
 }
 
 // The filter's share of each texel column [i, i + 1) that the texel coordinate c0 + g . (u, v)
-// crosses (dc_texel_shares): the first column and the shares. `slack` in texels.
+// crosses (dc_texel_span): the first column and the shares. `slack` in texels.
 int texelShares(const EdgeSpreads& e, double c0, glm::dvec2 g, int size, double slack, std::vector<double>& shares,
                 bool& ambiguous) {
     const double reach = e.radius * (std::abs(g.x) + std::abs(g.y));

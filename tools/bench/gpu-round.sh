@@ -147,6 +147,26 @@ for round in 1 2; do
 done
 }
 
+# A/B of kernel changes: the binary's kernels against each folder of AB_KERNELS (space-separated,
+# e.g. ".gpu/k1 .gpu/k2", copies of kernels/ with a change each), alternated AB_ROUNDS times (default
+# 2), with the bench arguments AB_ARGS (default: issue 15's `:fast` case). Rows are ab-NAME-ROUND,
+# NAME "base" or the folder's name; compare their output_hash to see whether a change kept the bytes.
+section_ab() {
+for round in $(seq "${AB_ROUNDS:-2}"); do
+    for kdir in base ${AB_KERNELS:-}; do
+        # shellcheck disable=SC2086
+        if [ "$kdir" = base ]; then
+            step "ab-base-$round" ${AB_ARGS:---repeat 10 --sizes 1920x1080 --counts 1024 --modes binned --no-transfers --pixel-filter blackman-harris:3:fast}
+        else
+            KDIR=$kdir
+            step "ab-$(basename "$kdir")-$round" ${AB_ARGS:---repeat 10 --sizes 1920x1080 --counts 1024 --modes binned --no-transfers --pixel-filter blackman-harris:3:fast}
+            KDIR=
+        fi
+    done
+    [ "$round" = 1 ] && save_cache
+done
+}
+
 for section in $SECTIONS; do section_$section; done
 date -u >>"$OUT/machine.txt"
 save_cache
