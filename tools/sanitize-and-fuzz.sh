@@ -4,7 +4,7 @@
 #  1. the test suite under ASan+UBSan; any sanitizer report from any process fails, also one from
 #     a CLI run whose exit code a test does not look at (reports go to files, checked at the end);
 #  2. every fuzz target for SECONDS (default 30) on seeds from data/.
-#   tools/sanitize-and-fuzz.sh [SECONDS]      build dir: $DECALCOMP_SANITIZE_BUILD or build-fuzz
+#   tools/sanitize-and-fuzz.sh [--build-only|--no-build] [SECONDS]      build dir: $DECALCOMP_SANITIZE_BUILD or build-fuzz
 # Extra arguments for ctest go in CTEST_ARGS (e.g. "-R Masks"). By default the pixel filter's
 # accuracy tests against supersampled truth (brute-force double-precision compositing of 6x frames,
 # minutes under ASan), its binned/unbinned twin and all but the first seed of its kernel-vs-reference
@@ -20,17 +20,24 @@
 # The random kernel, occlusion and material scenes run their first three seeds here (the gcc
 # stage runs every seed; the host code is the same for each), and BatchKill's SIGKILLs are left to
 # the gcc stage: a killed process reports nothing, and resuming runs under ASan in BatchSignals.
+# `--build-only` stops after the build, `--no-build` starts after it (tools/test.sh builds while the
+# main stage's tests run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+steps=all
+case "${1:-}" in --build-only | --no-build) steps=$1 && shift ;; esac
 seconds=${1:-30}
 build=${DECALCOMP_SANITIZE_BUILD:-build-fuzz}
 jobs=${JOBS:-$(nproc)}
 
-# -O1 keeps the sanitizers' stack traces exact and the build short; line tables are all the
-# symbolizer needs. No NDEBUG: assertions stay on.
-cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++-15 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DDECALCOMP_SANITIZE=ON -DDECALCOMP_FUZZ=ON
-cmake --build "$build" -j"$jobs"
+if [ "$steps" != --no-build ]; then
+  # -O1 keeps the sanitizers' stack traces exact and the build short; line tables are all the
+  # symbolizer needs. No NDEBUG: assertions stay on.
+  cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++-15 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DDECALCOMP_SANITIZE=ON -DDECALCOMP_FUZZ=ON
+  cmake --build "$build" -j"$jobs"
+fi
+[ "$steps" != --build-only ] || exit 0
 
 # 1. The whole suite, the slurm test included.
 reports="$(cd "$build" && pwd)/sanitizer-reports"  # absolute: tests and the CLI run in other folders
