@@ -152,19 +152,19 @@ inline DcSurface dc_split_material(const DcTaps* taps, int side, DcSurface s) {
     return s;
 }
 
-/* One surface of a split pixel for dc_filter_stacked_split: each tap's share on `plane` (the nearer
- * surface's, or with `far_side` the farther's) starts from the surface's material `base` and blends
- * every decal of the list reaching it in order (`reach`: dc_reach_mask on this plane). Returns
- * acc + the sum of w share (out - base). */
+/* One surface of a split pixel (docs/pixel-filter.md "Silhouettes"): each tap's share on `plane`
+ * (the nearer surface's, or with `far_side` the farther's) starts from the surface's material
+ * `base` and blends the list's decals [begin, end) that reach it, in order (`reach`: their mask as
+ * dc_reach_mask gives it on this plane). Returns the sum of the taps' results weighted by filter
+ * and share, and adds the weights to *total. */
 DC_INLINE DcSurface dc_filter_stacked_side(__constant const DcFrame* frame, __global const DcDecal* decals,
                                            __global const int* tile_decals, int binned, int begin, int end,
                                            const DcTaps* taps, const DcTapPlane* plane, const int far_side,
                                            ulong reach, DcSurface base, int has_normal, int x, int y,
                                            __global const float* mask_weights, __global const DcTexture* textures,
                                            __global const float4* texels, __global const uint* occlusion_maps,
-                                           DcSurface acc, const int variant, int* touched) {
+                                           const int variant, float* total, int* touched) {
     DcSurface sum = dc_surface_add_scaled(base, base, -1.0f);
-    float total = 0.0f;
     for (int j = 0; j < frame->filter_taps; ++j)
         for (int i = 0; i < frame->filter_taps; ++i) {
             const float u = frame->filter_offset[i], v = frame->filter_offset[j];
@@ -178,17 +178,22 @@ DC_INLINE DcSurface dc_filter_stacked_side(__constant const DcFrame* frame, __gl
                                       y, mask_weights, textures, texels, occlusion_maps, out, variant, touched);
             const float w = frame->filter_weight[i] * frame->filter_weight[j] * share;
             sum = dc_surface_add_scaled(sum, out, w);
-            total += w;
+            *total += w;
         }
+    return sum;
+}
+
+/* acc plus one side's change, sum - base total (dc_filter_stacked_side), where its taps weigh. */
+inline DcSurface dc_add_side_change(DcSurface acc, DcSurface sum, DcSurface base, float total) {
     if (!(total > 0.0f)) return acc;
     return dc_surface_add_scaled(dc_surface_add_scaled(acc, sum, 1.0f), base, -total);
 }
 
 /* The split pixel's version of dc_filter_stacked (docs/pixel-filter.md "Silhouettes"): each tap's
  * share on each surface starts from that surface's material and blends every decal reaching it in
- * list order; the pixel keeps its mix and adds each share's change. (Two calls with the sides'
- * fields, not a loop over `side`: a plane or material chosen at run time keeps the taps in memory
- * on GPUs, 12 % of the closed form's time on an H100.) */
+ * list order; the pixel keeps its mix and adds each share's change. (The sides are two calls, not a
+ * loop over `side`: a plane or material chosen at run time keeps the taps in memory on GPUs, 12 %
+ * of the closed form's time on an H100.) */
 DC_INLINE DcSurface dc_filter_stacked_split(__constant const DcFrame* frame, __global const DcDecal* decals,
                                             __global const int* tile_decals, int binned, int begin, int end,
                                             const DcTaps* taps, int has_normal, int x, int y,
@@ -198,76 +203,55 @@ DC_INLINE DcSurface dc_filter_stacked_split(__constant const DcFrame* frame, __g
     const ulong reach_near = dc_reach_mask(decals, tile_decals, binned, begin, end, &taps->plane);
     const ulong reach_far = dc_reach_mask(decals, tile_decals, binned, begin, end, &taps->other);
     if ((reach_near | reach_far) == 0 && end - begin <= DC_STACK_MASK_ENTRIES) return s;
+    const DcSurface base_near = dc_split_material(taps, 0, s), base_far = dc_split_material(taps, 1, s);
+    float total_near = 0.0f, total_far = 0.0f;
     int touched = 0;
-    DcSurface acc = dc_filter_stacked_side(frame, decals, tile_decals, binned, begin, end, taps, &taps->plane, 0,
-                                           reach_near, dc_split_material(taps, 0, s), has_normal, x, y, mask_weights,
-                                           textures, texels, occlusion_maps, s, variant, &touched);
-    acc = dc_filter_stacked_side(frame, decals, tile_decals, binned, begin, end, taps, &taps->other, 1, reach_far,
-                                 dc_split_material(taps, 1, s), has_normal, x, y, mask_weights, textures, texels,
-                                 occlusion_maps, acc, variant, &touched);
+    const DcSurface sum_near =
+        dc_filter_stacked_side(frame, decals, tile_decals, binned, begin, end, taps, &taps->plane, 0, reach_near,
+                               base_near, has_normal, x, y, mask_weights, textures, texels, occlusion_maps, variant,
+                               &total_near, &touched);
+    const DcSurface sum_far =
+        dc_filter_stacked_side(frame, decals, tile_decals, binned, begin, end, taps, &taps->other, 1, reach_far,
+                               base_far, has_normal, x, y, mask_weights, textures, texels, occlusion_maps, variant,
+                               &total_far, &touched);
     if (!touched) return s;
+    DcSurface acc = dc_add_side_change(dc_add_side_change(s, sum_near, base_near, total_near), sum_far, base_far,
+                                       total_far);
     if (acc.normal_changed && length(acc.normal) > 1e-6f) acc.normal = normalize(acc.normal);
     *applied = 1;
     return acc;
 }
 
-/* One surface of a split pixel (docs/pixel-filter.md "Silhouettes"): decal d over the taps on
- * `plane`, each for its share on this side (`far_side`: 1 - the near share), blended into the
- * surface's material `base`. Returns the weighted sum of the taps' results and their total weight
- * in *total; sets *touched when some tap reached the decal. */
-DC_INLINE DcSurface dc_filter_split_side(__constant const DcFrame* frame, __global const DcDecal* d,
-                                         const DcTaps* taps, const DcTapPlane* plane, const int far_side,
-                                         DcSurface base, int has_normal, float weight,
-                                         __global const DcTexture* textures, __global const float4* texels,
-                                         __global const uint* occlusion_maps, const int variant, float* total,
-                                         int* touched) {
-    const float3 su = dc_camera_to_local_vector(d, plane->du) * frame->filter_step;
-    const float3 sv = dc_camera_to_local_vector(d, plane->dv) * frame->filter_step;
-    DcSurface sum = dc_surface_add_scaled(base, base, -1.0f);
-    for (int j = 0; j < frame->filter_taps; ++j)
-        for (int i = 0; i < frame->filter_taps; ++i) {
-            const float u = frame->filter_offset[i], v = frame->filter_offset[j];
-            const float near = dc_tap_share(taps, u, v);
-            const float share = far_side ? 1.0f - near : near;
-            if (!(share > 0.0f)) continue;
-            const float w = frame->filter_weight[i] * frame->filter_weight[j] * share;
-            DcSurface out = base;
-            float3 pt;
-            if (dc_tap_point(&taps->rays, plane, u, v, &pt))
-                out = dc_tap_decal(frame, d, plane, pt, su, sv, has_normal, weight, textures, texels, occlusion_maps,
-                                   base, variant, touched);
-            sum = dc_surface_add_scaled(sum, out, w);
-            *total += w;
-        }
-    return sum;
-}
-
-/* Decal d at a split pixel, one decal at a time (frames with texture-space decals, whose
- * rest-space taps are placed per decal): each surface's taps blend it into that surface's material; the pixel
- * keeps its mix and adds each surface's change, weighted by its taps. Each surface's material
- * then becomes the mean of its taps' results, for the next decal. */
-DC_INLINE DcSurface dc_filter_decal_split(__constant const DcFrame* frame, __global const DcDecal* d, DcTaps* taps,
-                                          int has_normal, float weight, __global const DcTexture* textures,
-                                          __global const float4* texels, __global const uint* occlusion_maps,
-                                          DcSurface s, const int variant, int* applied) {
+/* List entry k's decal at a split pixel, one decal at a time (frames with texture-space decals,
+ * whose rest-space taps are placed per decal): each surface's taps blend it into that surface's
+ * material; the pixel keeps its mix and adds each surface's change, weighted by its taps. Each
+ * surface's material then becomes the mean of its taps' results, for the next decal. */
+DC_INLINE DcSurface dc_filter_decal_split(__constant const DcFrame* frame, __global const DcDecal* decals,
+                                          __global const int* tile_decals, int binned, int k, DcTaps* taps,
+                                          int has_normal, int x, int y, __global const float* mask_weights,
+                                          __global const DcTexture* textures, __global const float4* texels,
+                                          __global const uint* occlusion_maps, DcSurface s, const int variant,
+                                          int* applied) {
+    __global const DcDecal* d = &decals[binned ? tile_decals[k] : k];
     const bool reach_near = dc_filter_may_reach(d, &taps->plane), reach_far = dc_filter_may_reach(d, &taps->other);
     if (!reach_near && !reach_far) return s;
     const DcSurface base_near = dc_split_material(taps, 0, s), base_far = dc_split_material(taps, 1, s);
     float total_near = 0.0f, total_far = 0.0f;
     int touched = 0;
+    /* each side it may reach: the list of this one entry */
     const DcSurface sum_near =
-        reach_near ? dc_filter_split_side(frame, d, taps, &taps->plane, 0, base_near, has_normal, weight, textures,
-                                          texels, occlusion_maps, variant, &total_near, &touched)
+        reach_near ? dc_filter_stacked_side(frame, decals, tile_decals, binned, k, k + 1, taps, &taps->plane, 0, 1,
+                                            base_near, has_normal, x, y, mask_weights, textures, texels,
+                                            occlusion_maps, variant, &total_near, &touched)
                    : base_near;
     const DcSurface sum_far =
-        reach_far ? dc_filter_split_side(frame, d, taps, &taps->other, 1, base_far, has_normal, weight, textures,
-                                         texels, occlusion_maps, variant, &total_far, &touched)
+        reach_far ? dc_filter_stacked_side(frame, decals, tile_decals, binned, k, k + 1, taps, &taps->other, 1, 1,
+                                           base_far, has_normal, x, y, mask_weights, textures, texels, occlusion_maps,
+                                           variant, &total_far, &touched)
                   : base_far;
     if (!touched) return s;
-    /* s + sum (w share (out - base)) over both sides */
-    DcSurface acc = s;
-    if (total_near > 0.0f) acc = dc_surface_add_scaled(dc_surface_add_scaled(acc, sum_near, 1.0f), base_near, -total_near);
-    if (total_far > 0.0f) acc = dc_surface_add_scaled(dc_surface_add_scaled(acc, sum_far, 1.0f), base_far, -total_far);
+    DcSurface acc = dc_add_side_change(dc_add_side_change(s, sum_near, base_near, total_near), sum_far, base_far,
+                                       total_far);
     if (acc.normal_changed && length(acc.normal) > 1e-6f) acc.normal = normalize(acc.normal);
     for (int side = 0; side < 2; ++side) {
         const float total = side == 0 ? total_near : total_far;
@@ -423,8 +407,8 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                                             taps.mode != DC_TAPS_POINT, dc_decal_weight(frame, d, mask_weights, x, y),
                                             textures, texels, s, variant, &applied);
                 else if (taps.mode == DC_TAPS_SPLIT)
-                    s = dc_filter_decal_split(frame, d, &taps, has_normal, dc_decal_weight(frame, d, mask_weights, x, y),
-                                              textures, texels, occlusion_maps, s, variant, &applied);
+                    s = dc_filter_decal_split(frame, decals, tile_decals, binned, k, &taps, has_normal, x, y,
+                                              mask_weights, textures, texels, occlusion_maps, s, variant, &applied);
                 else if (taps.mode != DC_TAPS_POINT) /* this decal alone over the taps */
                     s = dc_filter_stacked(frame, decals, tile_decals, binned, k, k + 1, &taps.rays, &taps.plane,
                                           has_normal, x, y, mask_weights, textures, texels, occlusion_maps, s, variant,
