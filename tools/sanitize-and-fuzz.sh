@@ -4,8 +4,8 @@
 #  1. the test suite under ASan+UBSan; any sanitizer report from any process fails, also one from
 #     a CLI run whose exit code a test does not look at (reports go to files, checked at the end);
 #  2. every fuzz target for SECONDS (default 30) on seeds from data/.
-#   tools/sanitize-and-fuzz.sh [--build-only|--no-build] [SECONDS]      build dir: $DECALCOMP_SANITIZE_BUILD or build-fuzz
-# Extra arguments for ctest go in CTEST_ARGS (e.g. "-R Masks"). By default the pixel filter's
+#   tools/sanitize-and-fuzz.sh [SECONDS]      build dir: $DECALCOMP_SANITIZE_BUILD or build-fuzz
+# CTest's selection arguments go in CTEST_ARGS (e.g. "-R Masks"). By default the pixel filter's
 # accuracy tests against supersampled truth (brute-force double-precision compositing of 6x frames,
 # minutes under ASan), its binned/unbinned twin and all but the first seed of its kernel-vs-reference
 # test are left out: the same host code runs under ASan in KernelMatchesReference/1 (docs/fuzzing.md).
@@ -20,24 +20,18 @@
 # The random kernel, occlusion and material scenes run their first three seeds here (the gcc
 # stage runs every seed; the host code is the same for each), and BatchKill's SIGKILLs are left to
 # the gcc stage: a killed process reports nothing, and resuming runs under ASan in BatchSignals.
-# `--build-only` stops after the build, `--no-build` starts after it (tools/test.sh builds while the
-# main stage's tests run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-steps=all
-case "${1:-}" in --build-only | --no-build) steps=$1 && shift ;; esac
+root=$(pwd)
 seconds=${1:-30}
 build=${DECALCOMP_SANITIZE_BUILD:-build-fuzz}
 jobs=${JOBS:-$(nproc)}
 
-if [ "$steps" != --no-build ]; then
-  # -O1 keeps the sanitizers' stack traces exact and the build short; line tables are all the
-  # symbolizer needs. No NDEBUG: assertions stay on.
-  cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++-15 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DDECALCOMP_SANITIZE=ON -DDECALCOMP_FUZZ=ON
-  cmake --build "$build" -j"$jobs"
-fi
-[ "$steps" != --build-only ] || exit 0
+# -O1 keeps the sanitizers' stack traces exact and the build short; line tables are all the
+# symbolizer needs. No NDEBUG: assertions stay on.
+cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++-15 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DDECALCOMP_SANITIZE=ON -DDECALCOMP_FUZZ=ON
+cmake --build "$build" -j"$jobs"
 
 # 1. The whole suite, the slurm test included.
 reports="$(cd "$build" && pwd)/sanitizer-reports"  # absolute: tests and the CLI run in other folders
@@ -54,10 +48,12 @@ rm -rf "$reports" && mkdir -p "$reports"
   # shellcheck source=tools/sanitizers/env.sh
   . tools/sanitizers/env.sh
   cd "$build"
-  # One more test than cores: the CLI tests spend much of their time starting processes (ASan's
-  # shadow memory, PoCL), so a third job fills the gaps.
+  # One process per test executable, not per test (tools/sanitizers/run_grouped.py): under the
+  # sanitizers each process costs about half a second to start and to leak-check, and the stage
+  # ran 716 s one test a process against 331 s grouped. One more process than cores: the CLI tests
+  # spend much of their time starting processes (ASan's shadow memory, PoCL).
   # shellcheck disable=SC2086
-  ctest --output-on-failure -j"$((jobs + 1))" ${CTEST_ARGS:--E PixelFilterTruth|FilteredRandomScenes.BinnedEqualsUnbinned|FilteredRandomScenes.KernelMatchesReference/[2-9]|Ordering.TenThousand|TextureSpaceBakeBlender|FilteredDecalMatchesSupersampledTruth|BakeKernelMatchesReference.*/[1-9]|(Kernels/RandomScenes|Occlusion/OcclusionScenes|Materials/MaterialScenes)[.].*/([4-9]|[1-9][0-9])\$|BatchKill}
+  python3 "$root/tools/sanitizers/run_grouped.py" . "$((jobs + 1))" ${CTEST_ARGS:--E PixelFilterTruth|FilteredRandomScenes.BinnedEqualsUnbinned|FilteredRandomScenes.KernelMatchesReference/[2-9]|Ordering.TenThousand|TextureSpaceBakeBlender|FilteredDecalMatchesSupersampledTruth|BakeKernelMatchesReference.*/[1-9]|(Kernels/RandomScenes|Occlusion/OcclusionScenes|Materials/MaterialScenes)[.].*/([4-9]|[1-9][0-9])\$|BatchKill}
 ) || suite_failed=1
 failed=""
 if [ -n "$(ls -A "$reports")" ]; then
