@@ -3,11 +3,12 @@
 (tools/sanitize-and-fuzz.sh, docs/fuzzing.md): under the sanitizers each process costs about half a
 second to start and to leak-check at its exit, and the suite has hundreds of short tests.
 
-    run_grouped.py BUILD_DIR JOBS [ctest selection arguments, e.g. -E REGEX]
+    run_grouped.py BUILD_DIR JOBS [--separate REGEX] [ctest selection arguments, e.g. -E REGEX]
 
 CTest itself selects the tests (`ctest --show-only=json-v1` with the arguments), so the selection
 means what it means for ctest. Tests of one executable run in one process with a --gtest_filter
-naming each of them; tests that are not GoogleTest cases run through ctest, one by one. JOBS
+naming each of them; tests that are not GoogleTest cases, and those whose names match the
+--separate regex (timing-sensitive ones), run through ctest, one by one. JOBS
 processes run at once. Prints the log of every process that failed and exits 1 if any did."""
 import collections
 import concurrent.futures
@@ -27,13 +28,13 @@ def selected_tests(build, ctest_args):
     return json.loads(shown)["tests"]
 
 
-def group(tests, build):
+def group(tests, build, separate):
     """{(executable, working directory): [test names]} for GoogleTest cases, and the other names."""
     by_executable, others = collections.OrderedDict(), []
     for test in tests:
         command = test.get("command", [])
         filters = [a for a in command[1:] if a.startswith("--gtest_filter=")]
-        if not command or not filters:
+        if not command or not filters or (separate and re.search(separate, test["name"])):
             others.append(test["name"])
             continue
         workdir = next((p["value"] for p in test.get("properties", []) if p["name"] == "WORKING_DIRECTORY"), build)
@@ -67,7 +68,10 @@ def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     build, jobs, ctest_args = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
-    by_executable, others = group(selected_tests(build, ctest_args), build)
+    separate = None
+    if ctest_args[:1] == ["--separate"]:
+        separate, ctest_args = ctest_args[1], ctest_args[2:]
+    by_executable, others = group(selected_tests(build, ctest_args), build, separate)
     if not by_executable and not others:
         sys.exit(f"run_grouped.py: ctest {' '.join(ctest_args)} selects no test in {build}")
     # the executables with the most tests first, so that the longest do not start last
