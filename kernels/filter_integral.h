@@ -60,7 +60,7 @@ inline float dc_slab_share(__constant const DcFrame* f, float a0, float2 g, floa
 #define DC_INTEGRATED_TEXELS 12
 
 /* The texel columns [i, i + 1) that the texel coordinate c0 + g . (u, v) crosses: `count` of them
- * from `first` (0 where the footprint misses the texture). dc_texel_share gives each one's share. */
+ * from `first`. dc_texel_share_below gives the shares. */
 typedef struct {
     DcEdgeSpread e;
     float c0;
