@@ -305,12 +305,15 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
     const int attributes = frame->attributes;
     const bool has_group1 = (attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
     const bool has_group2 = (attributes & ((1 << DC_TARGET_EMISSION) | (1 << DC_TARGET_AO))) != 0;
-    /* Binning leaves each decal's pixel range (with the filter taps' reach): a pixel outside every
-     * range of its list is reached by none of them, and reads nothing more either; the list
-     * narrows to the entries from the first to the last whose range holds it. Positions from a
-     * position pass need not project onto their pixel, and texture-space decals follow the rest
-     * pose: those frames skip the test. */
+    /* Binning leaves each decal's pixel range (with the filter taps' reach): a decal whose range
+     * misses the pixel does not reach it. Positions from a position pass need not project onto
+     * their pixel, and texture-space decals follow the rest pose: those frames skip the test.
+     * A filtered pixel first narrows its list to the entries from the first to the last whose range
+     * holds it, and one outside every range returns before its footprint's set-up. The point
+     * program tests each entry in its loop only: on an H100 the narrowing's second pass over the
+     * ranges cost more than its early returns saved (4-8 % of the kernels, docs/benchmarks.md). */
     const bool pixel_test = binned && frame->depth_convention != DC_DEPTH_POSITION && !frame->rest_decals;
+#ifndef DC_POINT_SHADING_ONLY
     if (pixel_test) {
         int first = end, last = begin - 1;
         for (int k = begin; k < end; ++k)
@@ -322,6 +325,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
         begin = first;
         end = last + 1;
     }
+#endif
     float3 p;
     if (!dc_reconstruct(frame, depth_plane, position_plane, x, y, &p)) return (float3)(0.0f);
     const float4 in0 = surface0[i];
@@ -444,6 +448,10 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
     return (float3)(0.0f);
 }
 
+#if DC_TILE_SIZE != 16
+#error "dc_shade_pixel maps a 16 x 16 work-group's work-items to pixels"
+#endif
+
 /* One pixel. `variant` (DC_VARIANT_x) is a literal in each kernel below, so the lean kernels carry
  * none of the code they exclude (fewer registers, faster loops: docs/benchmarks.md). */
 inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float* depth_plane,
@@ -459,11 +467,16 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                            __global const uint* occlusion_maps, __global float* beauty,
                            __global float* light, __global const float4* rest_points,
                            __global const float4* rest_frames, const int variant) {
-    const int x = get_global_id(0), y = get_global_id(1);
+    /* Work-groups are tiles of 16 x 16 pixels (compositor.cpp). Each 32 work-items (a warp on NVIDIA)
+     * shade 8 x 4 of its pixels rather than two rows of 16, so fewer decal edges divide a warp (H100:
+     * the kernels 1-3 % faster, docs/benchmarks.md). */
+    const int lid = get_local_id(1) * DC_TILE_SIZE + get_local_id(0);
+    const int x = get_group_id(0) * DC_TILE_SIZE + ((lid >> 5) & 1) * 8 + (lid & 7);
+    const int y = get_group_id(1) * DC_TILE_SIZE + (lid >> 6) * 4 + ((lid >> 3) & 3);
     if (x >= frame->width || y >= frame->height) return;
     const size_t i = (size_t)y * frame->width + x;
     /* The surface planes are changed in place: pixels no decal reaches (background among them)
-     * are neither read nor written, so they keep their samples bit for bit. (The beauty's change is
+     * are not written, so they keep their samples bit for bit. (The beauty's change is
      * written, 0 there, at every pixel of a listed tile.) */
     int begin = 0, end = frame->decal_count;
     if (binned) {
