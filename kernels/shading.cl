@@ -306,26 +306,12 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
     const bool has_group1 = (attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
     const bool has_group2 = (attributes & ((1 << DC_TARGET_EMISSION) | (1 << DC_TARGET_AO))) != 0;
     /* Binning leaves each decal's pixel range (with the filter taps' reach): a decal whose range
-     * misses the pixel does not reach it. Positions from a position pass need not project onto
-     * their pixel, and texture-space decals follow the rest pose: those frames skip the test.
-     * A filtered pixel first narrows its list to the entries from the first to the last whose range
-     * holds it, and one outside every range returns before its footprint's set-up. The point
-     * program tests each entry in its loop only: on an H100 the narrowing's second pass over the
-     * ranges cost more than its early returns saved (4-8 % of the kernels, docs/benchmarks.md). */
+     * misses the pixel does not reach it, and the decal loops below skip it before any transform.
+     * Positions from a position pass need not project onto their pixel, and texture-space decals
+     * follow the rest pose: those frames skip the test. (Narrowing the list to the entries whose
+     * ranges hold the pixel, returning early where none does, cost more on an H100 than it saved:
+     * 4-12 % of the point-sampled kernels, 11 % of `:fast`'s; docs/benchmarks.md, stop 41.) */
     const bool pixel_test = binned && frame->depth_convention != DC_DEPTH_POSITION && !frame->rest_decals;
-#ifndef DC_POINT_SHADING_ONLY
-    if (pixel_test) {
-        int first = end, last = begin - 1;
-        for (int k = begin; k < end; ++k)
-            if (dc_pixel_in_bounds(&decal_bounds[tile_decals[k]], x, y)) {
-                first = min(first, k);
-                last = k;
-            }
-        if (first > last) return (float3)(0.0f);
-        begin = first;
-        end = last + 1;
-    }
-#endif
     float3 p;
     if (!dc_reconstruct(frame, depth_plane, position_plane, x, y, &p)) return (float3)(0.0f);
     const float4 in0 = surface0[i];
