@@ -310,7 +310,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
      * Positions from a position pass need not project onto their pixel, and texture-space decals
      * follow the rest pose: those frames skip the test. (Narrowing the list to the entries whose
      * ranges hold the pixel, returning early where none does, cost more on an H100 than it saved:
-     * 4-12 % of the point-sampled kernels, 11 % of `:fast`'s; docs/benchmarks.md, stop 41.) */
+     * 4-12 % of the point-sampled kernels, 11-14 % of the filtered ones; docs/benchmarks.md, stop 41.) */
     const bool pixel_test = binned && frame->depth_convention != DC_DEPTH_POSITION && !frame->rest_decals;
     float3 p;
     if (!dc_reconstruct(frame, depth_plane, position_plane, x, y, &p)) return (float3)(0.0f);
