@@ -306,7 +306,8 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
     const bool has_group1 = (attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
     const bool has_group2 = (attributes & ((1 << DC_TARGET_EMISSION) | (1 << DC_TARGET_AO))) != 0;
     /* Binning leaves each decal's pixel range (with the filter taps' reach): a decal whose range
-     * misses the pixel does not reach it, and the decal loops below skip it before any transform.
+     * misses the pixel does not reach it, and the point-sampled and closed-form loops below skip it
+     * before any transform (the taps test each decal's reach on the footprint's plane instead).
      * Positions from a position pass need not project onto their pixel, and texture-space decals
      * follow the rest pose: those frames skip the test. (Narrowing the list to the entries whose
      * ranges hold the pixel, returning early where none does, cost more on an H100 than it saved:
