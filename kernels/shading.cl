@@ -271,6 +271,46 @@ inline bool dc_pixel_in_bounds(__global const DcDecalBounds* b, int x, int y) {
     return x >= b->pixel_x0 && x <= b->pixel_x1 && y >= b->pixel_y0 && y <= b->pixel_y1;
 }
 
+/* A tile's list in local memory: its first entries' decal indices and pixel ranges (x0, y0, x1,
+ * y1). Every pixel of the tile walks the list in step, and from global memory each step was two
+ * dependent loads (the entry, then its decal's range); from here it is one (H100: the point-sampled
+ * kernels 3-7 % faster, docs/benchmarks.md). */
+#define DC_STAGED_ENTRIES (DC_TILE_SIZE * DC_TILE_SIZE)
+typedef struct {
+    int index[DC_STAGED_ENTRIES];
+    int4 range[DC_STAGED_ENTRIES];
+} DcStagedList;
+
+/* The group's work-items copy the list's first entries [begin, end) into `staged` together, one
+ * entry each; returns how many. Every work-item of the group must call it (a barrier). */
+inline int dc_stage_list(__local DcStagedList* staged, __global const int* tile_decals,
+                         __global const DcDecalBounds* decal_bounds, int begin, int end) {
+    const int lid = get_local_id(1) * DC_TILE_SIZE + get_local_id(0);
+    const int count = min(end - begin, DC_STAGED_ENTRIES);
+    if (lid < count) {
+        const int index = tile_decals[begin + lid];
+        __global const DcDecalBounds* b = &decal_bounds[index];
+        staged->index[lid] = index;
+        staged->range[lid] = (int4)(b->pixel_x0, b->pixel_y0, b->pixel_x1, b->pixel_y1);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    return count;
+}
+
+/* List entry k's decal in *index (the first `staged_count` entries from local memory); false where
+ * `pixel_test` holds and the decal's pixel range misses pixel (x, y). */
+inline bool dc_list_entry(__local const DcStagedList* staged, int staged_count, __global const int* tile_decals,
+                          __global const DcDecalBounds* decal_bounds, int binned, int pixel_test, int begin, int k,
+                          int x, int y, int* index) {
+    if (k - begin < staged_count) {
+        *index = staged->index[k - begin];
+        const int4 r = staged->range[k - begin];
+        return !pixel_test || (x >= r.x && x <= r.z && y >= r.y && y <= r.w);
+    }
+    *index = binned ? tile_decals[k] : k;
+    return !pixel_test || dc_pixel_in_bounds(&decal_bounds[*index], x, y);
+}
+
 /* Decal d point-sampled at the pixel centre p. Sets *applied when the decal reaches p. */
 DC_INLINE DcSurface dc_point_decal(__constant const DcFrame* frame, __global const DcDecal* d, float3 p,
                                    float3 normal, int has_normal, float3 p_dx, float3 p_dy, int footprint, int x,
@@ -298,6 +338,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                                     __global const DcDecal* decals, __global const DcTexture* textures,
                                     __global const float4* texels, __global const int* tile_decals,
                                     __global const DcDecalBounds* decal_bounds, int binned, int begin, int end,
+                                    __local const DcStagedList* staged, int staged_count,
                                     __global const float* mask_weights, __global const uint* occlusion_maps,
                                     __global float* light, __global const float4* rest_points,
                                     __global const float4* rest_frames, const int variant, int x, int y) {
@@ -364,8 +405,10 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
              * rest pose in its body the compiler keeps it lean (PoCL: 1.4x, docs/benchmarks.md). */
             /* outside a decal's pixel range, no transform (pixel_test above) */
             for (int k = begin; k < end; ++k) {
-                const int index = binned ? tile_decals[k] : k;
-                if (pixel_test && !dc_pixel_in_bounds(&decal_bounds[index], x, y)) continue;
+                int index;
+                if (!dc_list_entry(staged, staged_count, tile_decals, decal_bounds, binned, pixel_test, begin, k, x, y,
+                                   &index))
+                    continue;
                 s = dc_point_decal(frame, &decals[index], p, normal, has_normal, p_dx, p_dy, footprint, x, y,
                                    mask_weights, occlusion_maps, textures, texels, s, variant, &applied);
             }
@@ -378,8 +421,10 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
 #if DC_PATH_FAST
         } else if (taps.mode == DC_TAPS_PLANE && !frame->rest_decals && frame->filter_fast) {
             for (int k = begin; k < end; ++k) {
-                const int index = binned ? tile_decals[k] : k;
-                if (pixel_test && !dc_pixel_in_bounds(&decal_bounds[index], x, y)) continue;
+                int index;
+                if (!dc_list_entry(staged, staged_count, tile_decals, decal_bounds, binned, pixel_test, begin, k, x, y,
+                                   &index))
+                    continue;
                 s = dc_integrated_decal(frame, &decals[index], &taps.plane, has_normal, x, y, mask_weights,
                                         occlusion_maps, textures, texels, s, variant, &applied);
             }
@@ -453,34 +498,41 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                            __global const float* mask_weights,
                            __global const uint* occlusion_maps, __global float* beauty,
                            __global float* light, __global const float4* rest_points,
-                           __global const float4* rest_frames, const int variant) {
+                           __global const float4* rest_frames, __local DcStagedList* staged, const int variant) {
     /* Work-groups are tiles of 16 x 16 pixels (compositor.cpp). Each 32 work-items (a warp on NVIDIA)
      * shade 8 x 4 of its pixels rather than two rows of 16, so fewer decal edges divide a warp (H100:
      * the kernels 1-3 % faster, docs/benchmarks.md). */
     const int lid = get_local_id(1) * DC_TILE_SIZE + get_local_id(0);
     const int x = get_group_id(0) * DC_TILE_SIZE + ((lid >> 5) & 1) * 8 + (lid & 7);
     const int y = get_group_id(1) * DC_TILE_SIZE + (lid >> 6) * 4 + ((lid >> 3) & 3);
-    if (x >= frame->width || y >= frame->height) return;
-    const size_t i = (size_t)y * frame->width + x;
     /* The surface planes are changed in place: pixels no decal reaches (background among them)
      * are not written, so they keep their samples bit for bit. (The beauty's change is
      * written, 0 there, at every pixel of a listed tile.) */
     int begin = 0, end = frame->decal_count;
     if (binned) {
-        const int tile = (y / DC_TILE_SIZE) * frame->tiles_x + x / DC_TILE_SIZE;
+        const int tile = get_group_id(1) * frame->tiles_x + get_group_id(0);
         begin = tile_offsets[tile];
         end = min(tile_offsets[tile + 1], list_capacity); /* an overflowed list: the frame runs again */
     }
-    /* the tile's list before the pixel's point: tiles no decal reaches read nothing but it */
+    /* the tile's list before the pixel's point: tiles no decal reaches read nothing but it (the
+     * whole group returns, before the list's staging and its barrier) */
     if (begin >= end) return;
+#ifdef DC_POINT_SHADING_ONLY
+    const int staged_count = binned ? dc_stage_list(staged, tile_decals, decal_bounds, begin, end) : 0;
+#else
+    const int staged_count = 0;
+#endif
+    if (x >= frame->width || y >= frame->height) return;
+    const size_t i = (size_t)y * frame->width + x;
     /* Every pixel of a listed tile writes its beauty change, 0 where nothing changed: the host adds
      * the changes of exactly those tiles (beauty_transfer.hpp), and the kernel never reads the beauty.
      * With one light term that no neighbour reads (change_in_light), the change takes the place of
      * the pixel's term, which it loaded before: a CPU then writes lines already in its cache. */
     const float3 change = dc_shade_listed_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2,
                                                 original0, original1, clean_depths, decals, textures, texels,
-                                                tile_decals, decal_bounds, binned, begin, end, mask_weights,
-                                                occlusion_maps, light, rest_points, rest_frames, variant, x, y);
+                                                tile_decals, decal_bounds, binned, begin, end, staged, staged_count,
+                                                mask_weights, occlusion_maps, light, rest_points, rest_frames, variant,
+                                                x, y);
     if (frame->beauty) vstore3(change, i, frame->change_in_light ? light : beauty);
 }
 
@@ -498,24 +550,40 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                    clean_depths,                                                                              \
                    decals, textures, texels,                                                                  \
                    tile_offsets, tile_decals, decal_bounds, binned, list_capacity,                            \
-                   mask_weights, occlusion_maps, beauty, light, rest_points, rest_frames, VARIANT)
+                   mask_weights, occlusion_maps, beauty, light, rest_points, rest_frames, &staged, VARIANT)
+/* the tile's staged list (OpenCL C 1.2 declares local memory in the kernel's own scope) */
+#define DC_SHADE_LOCALS __local DcStagedList staged
 
 /* The point program (DC_POINT_SHADING_ONLY): every target, kind and blast occlusion, then leaner
  * kernels the host picks when a scene fits, none with the pixel filter's or the rest pose's code,
  * and so none of their registers (docs/benchmarks.md). */
 #ifdef DC_POINT_SHADING_ONLY
-__kernel void dc_shade_point(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_POINT); }
-__kernel void dc_shade_point_albedo(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_ALBEDO_ONLY); }
-__kernel void dc_shade_point_flat(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_FLAT); }
+__kernel void dc_shade_point(DC_SHADE_ARGUMENTS) {
+    DC_SHADE_LOCALS;
+    DC_SHADE_CALL(DC_VARIANT_POINT);
+}
+__kernel void dc_shade_point_albedo(DC_SHADE_ARGUMENTS) {
+    DC_SHADE_LOCALS;
+    DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_ALBEDO_ONLY);
+}
+__kernel void dc_shade_point_flat(DC_SHADE_ARGUMENTS) {
+    DC_SHADE_LOCALS;
+    DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_FLAT);
+}
 __kernel void dc_shade_point_albedo_flat(DC_SHADE_ARGUMENTS) {
+    DC_SHADE_LOCALS;
     DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT);
 }
 #else
 /* A shading program (ComputeDevice::shadingProgram), for filtered and texture-space frames: one
  * kernel, of the variant (DC_SHADE_VARIANT) and with the paths (DC_PATH_TAPS, DC_PATH_FAST,
  * DC_PATH_REST) its build names. */
-__kernel void dc_shade(DC_SHADE_ARGUMENTS) { DC_SHADE_CALL(DC_SHADE_VARIANT); }
+__kernel void dc_shade(DC_SHADE_ARGUMENTS) {
+    DC_SHADE_LOCALS;
+    DC_SHADE_CALL(DC_SHADE_VARIANT);
+}
 #endif
 
 #undef DC_SHADE_ARGUMENTS
 #undef DC_SHADE_CALL
+#undef DC_SHADE_LOCALS
