@@ -1,5 +1,5 @@
 // The device's prefix sum (kernels/scan.cl) that turns the binning's per-tile counts into list
-// offsets, against std::exclusive_scan: every length around its block and work-group edges.
+// offsets, against std::exclusive_scan at lengths around its work-group size and beyond.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -32,7 +32,7 @@ std::vector<cl_int> deviceScan(ComputeDevice& device, const std::vector<cl_int>&
 TEST(ScanKernel, EqualsExclusiveScanWithTheTotalAppended) {
     ComputeDevice& device = test::cpuDevice();
     std::mt19937 random(42);
-    // block edges (DC_SCAN_GROUP work-items, runs of a few counts each), a 4K frame's 240 x 135 tiles
+    // lengths around the work-group size and its multiples; a 1080p and a 4K frame's tile counts
     for (const std::size_t n :
          {std::size_t(0), std::size_t(1), std::size_t(7), std::size_t(DC_SCAN_GROUP - 1), std::size_t(DC_SCAN_GROUP),
           std::size_t(DC_SCAN_GROUP + 1), std::size_t(2047), std::size_t(2048), std::size_t(2049), std::size_t(4097),
