@@ -266,15 +266,18 @@ DC_INLINE DcSurface dc_filter_decal_split(__constant const DcFrame* frame, __glo
     return acc;
 }
 
-/* Whether pixel (x, y) lies in the decal's pixel range (binning.cl dc_decal_bounds). */
-inline bool dc_pixel_in_bounds(__global const DcDecalBounds* b, int x, int y) {
-    return x >= b->pixel_x0 && x <= b->pixel_x1 && y >= b->pixel_y0 && y <= b->pixel_y1;
+/* A decal's pixel range (binning.cl dc_decal_bounds) as (x0, y0, x1, y1), inclusive. */
+inline int4 dc_pixel_range(__global const DcDecalBounds* b) {
+    return (int4)(b->pixel_x0, b->pixel_y0, b->pixel_x1, b->pixel_y1);
 }
 
-/* A tile's list in local memory: its first entries' decal indices and pixel ranges (x0, y0, x1,
- * y1). Every pixel of the tile walks the list in step, and from global memory each step was two
- * dependent loads (the entry, then its decal's range); from here it is one (H100: the point-sampled
- * kernels 3-7 % faster, docs/benchmarks.md). */
+/* Whether pixel (x, y) lies in the range r (dc_pixel_range). */
+inline bool dc_range_holds(int4 r, int x, int y) { return x >= r.x && x <= r.z && y >= r.y && y <= r.w; }
+
+/* A tile's list in local memory: its first entries' decal indices and pixel ranges. Every pixel of
+ * the tile walks the list in step, and from global memory each step was two dependent loads (the
+ * entry, then its decal's range); from here it is one (H100: the point-sampled kernels 3-7 %
+ * faster, docs/benchmarks.md). */
 #define DC_STAGED_ENTRIES (DC_TILE_SIZE * DC_TILE_SIZE)
 typedef struct {
     int index[DC_STAGED_ENTRIES];
@@ -289,9 +292,8 @@ inline int dc_stage_list(__local DcStagedList* staged, __global const int* tile_
     const int count = min(end - begin, DC_STAGED_ENTRIES);
     if (lid < count) {
         const int index = tile_decals[begin + lid];
-        __global const DcDecalBounds* b = &decal_bounds[index];
         staged->index[lid] = index;
-        staged->range[lid] = (int4)(b->pixel_x0, b->pixel_y0, b->pixel_x1, b->pixel_y1);
+        staged->range[lid] = dc_pixel_range(&decal_bounds[index]);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
     return count;
@@ -304,11 +306,10 @@ inline bool dc_list_entry(__local const DcStagedList* staged, int staged_count, 
                           int x, int y, int* index) {
     if (k - begin < staged_count) {
         *index = staged->index[k - begin];
-        const int4 r = staged->range[k - begin];
-        return !pixel_test || (x >= r.x && x <= r.z && y >= r.y && y <= r.w);
+        return !pixel_test || dc_range_holds(staged->range[k - begin], x, y);
     }
     *index = binned ? tile_decals[k] : k;
-    return !pixel_test || dc_pixel_in_bounds(&decal_bounds[*index], x, y);
+    return !pixel_test || dc_range_holds(dc_pixel_range(&decal_bounds[*index]), x, y);
 }
 
 /* Decal d point-sampled at the pixel centre p. Sets *applied when the decal reaches p. */
@@ -545,45 +546,43 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
         __global const DcDecalBounds *decal_bounds, int binned, int list_capacity,                              \
         __global const float *mask_weights, __global const uint *occlusion_maps, __global float *beauty,        \
         __global float *light, __global const float4 *rest_points, __global const float4 *rest_frames
-#define DC_SHADE_CALL(VARIANT)                                                                              \
+#define DC_SHADE_CALL(VARIANT, STAGED)                                                                      \
     dc_shade_pixel(frame, depth_plane, position_plane, surface0, surface1, surface2, original0, original1,       \
                    clean_depths,                                                                              \
                    decals, textures, texels,                                                                  \
                    tile_offsets, tile_decals, decal_bounds, binned, list_capacity,                            \
-                   mask_weights, occlusion_maps, beauty, light, rest_points, rest_frames, &staged, VARIANT)
-/* the tile's staged list (OpenCL C 1.2 declares local memory in the kernel's own scope) */
-#define DC_SHADE_LOCALS __local DcStagedList staged
+                   mask_weights, occlusion_maps, beauty, light, rest_points, rest_frames, STAGED, VARIANT)
+/* STAGED: the tile's list in local memory, which OpenCL C 1.2 declares in the kernel's own scope
+ * (the point kernels); 0 where the kernel stages none (the shading programs) */
 
 /* The point program (DC_POINT_SHADING_ONLY): every target, kind and blast occlusion, then leaner
  * kernels the host picks when a scene fits, none with the pixel filter's or the rest pose's code,
  * and so none of their registers (docs/benchmarks.md). */
 #ifdef DC_POINT_SHADING_ONLY
 __kernel void dc_shade_point(DC_SHADE_ARGUMENTS) {
-    DC_SHADE_LOCALS;
-    DC_SHADE_CALL(DC_VARIANT_POINT);
+    __local DcStagedList staged;
+    DC_SHADE_CALL(DC_VARIANT_POINT, &staged);
 }
 __kernel void dc_shade_point_albedo(DC_SHADE_ARGUMENTS) {
-    DC_SHADE_LOCALS;
-    DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_ALBEDO_ONLY);
+    __local DcStagedList staged;
+    DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_ALBEDO_ONLY, &staged);
 }
 __kernel void dc_shade_point_flat(DC_SHADE_ARGUMENTS) {
-    DC_SHADE_LOCALS;
-    DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_FLAT);
+    __local DcStagedList staged;
+    DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_FLAT, &staged);
 }
 __kernel void dc_shade_point_albedo_flat(DC_SHADE_ARGUMENTS) {
-    DC_SHADE_LOCALS;
-    DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT);
+    __local DcStagedList staged;
+    DC_SHADE_CALL(DC_VARIANT_POINT | DC_VARIANT_ALBEDO_ONLY | DC_VARIANT_FLAT, &staged);
 }
 #else
 /* A shading program (ComputeDevice::shadingProgram), for filtered and texture-space frames: one
  * kernel, of the variant (DC_SHADE_VARIANT) and with the paths (DC_PATH_TAPS, DC_PATH_FAST,
  * DC_PATH_REST) its build names. */
 __kernel void dc_shade(DC_SHADE_ARGUMENTS) {
-    DC_SHADE_LOCALS;
-    DC_SHADE_CALL(DC_SHADE_VARIANT);
+    DC_SHADE_CALL(DC_SHADE_VARIANT, 0);
 }
 #endif
 
 #undef DC_SHADE_ARGUMENTS
 #undef DC_SHADE_CALL
-#undef DC_SHADE_LOCALS
