@@ -2,7 +2,7 @@
 // offsets, against std::exclusive_scan at lengths around its work-group size and beyond.
 #include <gtest/gtest.h>
 
-#include <cstdint>
+#include <algorithm>
 #include <numeric>
 #include <random>
 #include <vector>
