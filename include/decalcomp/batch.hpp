@@ -87,7 +87,8 @@ struct BatchTimings {
     double prepare_s = 0;     // Frame::prepare: channel mapping, float planes, camera, checks, masks
     double composite_s = 0;   // Frame::composite, wall time (host packing, transfers, kernels, store)
     double kernels_ms = 0;    // of which device kernel time (profiling events)
-    double write_s = 0;       // Frame::writeBack (encode on OpenEXR's pool), writer thread
+    double encode_s = 0;      // Frame::stageOutputs (encode on OpenEXR's pool into temporaries), workers
+    double write_s = 0;       // Frame::commitOutputs (renames into place, in frame order), writer thread
     double read_wait_s = 0;   // reader blocked on a full queue (compositing or writing is slower)
     double write_idle_s = 0;  // writer waiting for frames (reading or compositing is slower)
 };

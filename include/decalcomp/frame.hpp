@@ -10,13 +10,14 @@
 
 #include "decalcomp/camera.hpp"
 #include "decalcomp/camera_solve.hpp"
-#include "decalcomp/depth_check.hpp"
+#include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/decal.hpp"
-#include "decalcomp/channel_mapping.hpp"
+#include "decalcomp/depth_check.hpp"
 #include "decalcomp/exr_file.hpp"
 #include "decalcomp/frame_beauty.hpp"
 #include "decalcomp/normal_check.hpp"
+#include "decalcomp/pipeline.hpp"
 #include "decalcomp/pixel_filter.hpp"
 #include "decalcomp/provenance.hpp"
 #include "decalcomp/sequence_conventions.hpp"
@@ -104,7 +105,14 @@ public:
 
     // Writes every output (and the preview) to a temporary beside it and renames them into place
     // only when all are complete, so a failure leaves none behind. Returns the EXRs written.
+    // The same as stageOutputs() then commitOutputs().
     const std::vector<std::string>& writeBack();
+
+    // writeBack() in two halves, so that frames can be encoded on several threads and still land in
+    // order: stageOutputs() writes every temporary (the encoding: nearly all of a write's time),
+    // commitOutputs() renames them into place. A frame destroyed before its commit removes them.
+    void stageOutputs();
+    const std::vector<std::string>& commitOutputs();
 
     // The outputs prepare() decided: input file index -> path.
     const std::map<int, std::string>& outputs() const { return outputs_; }
@@ -143,6 +151,7 @@ private:
     Camera camera_;
     FrameBeauty beauty_;
     std::map<int, ProvenanceRecord> provenance_;  // per output file: what writeBack() records in its header
+    std::optional<StagedOutputs> staged_;         // between stageOutputs() and commitOutputs()
     FrameReport report_;
 };
 

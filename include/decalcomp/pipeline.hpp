@@ -1,9 +1,11 @@
 #pragma once
 // The building blocks of a frame's steps (decalcomp/frame.hpp): reading its files, its camera,
 // where its outputs go, and writing them all or none.
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "decalcomp/camera.hpp"
@@ -77,6 +79,36 @@ struct PendingOutput {
     const ExrImage* image;
     std::string path;
 };
+// Outputs written to their temporaries and not yet renamed into place (stageOutputsTogether):
+// commit() renames them all; an object destroyed uncommitted removes them, and the folders their
+// write created. A batch encodes frames on several threads this way and commits them in frame
+// order, so a stopped batch still leaves no frame after the one that failed.
+class StagedOutputs {
+public:
+    StagedOutputs() = default;
+    StagedOutputs(StagedOutputs&& other) noexcept;
+    StagedOutputs& operator=(StagedOutputs&& other) noexcept;
+    StagedOutputs(const StagedOutputs&) = delete;
+    StagedOutputs& operator=(const StagedOutputs&) = delete;
+    ~StagedOutputs() { discard(); }
+
+    void commit();                                           // renames every temporary into place (the preview last)
+    void discard() noexcept;                                 // removes them; nothing once committed
+    const ChunkWriteStats& stats() const { return stats_; }  // what the EXR writes did with their chunks
+
+private:
+    friend StagedOutputs stageOutputsTogether(const std::vector<PendingOutput>&, const std::string*,
+                                              const std::function<void(const std::string&)>&);
+    std::vector<std::pair<std::string, std::string>> temporaries_;  // temporary, final: the EXRs
+    std::vector<std::pair<std::string, std::string>> preview_;      // and the preview, renamed last
+    std::vector<std::filesystem::path> created_folders_;            // outermost first
+    ChunkWriteStats stats_;
+};
+
+// The first half of writeOutputsTogether: every temporary written, none renamed.
+StagedOutputs stageOutputsTogether(const std::vector<PendingOutput>& outputs, const std::string* preview,
+                                   const std::function<void(const std::string&)>& write_preview);
+
 // Returns what the EXR writes did with their chunks, summed over the outputs.
 ChunkWriteStats writeOutputsTogether(const std::vector<PendingOutput>& outputs, const std::string* preview,
                                      const std::function<void(const std::string&)>& write_preview);

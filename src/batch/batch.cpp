@@ -1,7 +1,7 @@
 // The batch loop over Frame: one reader thread, compositing workers (per device) and one writer
 // thread joined by bounded queues, with OpenEXR's thread pool decoding and encoding inside each
-// read and write. The writer puts frames back in plan order, so where a batch stops does not
-// depend on which worker was faster.
+// read and write. The workers also encode their frames into temporaries; the writer renames them
+// into place in plan order, so where a batch stops does not depend on which worker was faster.
 #include <OpenEXR/ImfThreading.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -257,7 +257,8 @@ public:
 
     explicit Pipeline(SetUp setup)
         : s_(std::move(setup)),
-          workers_(s_.request.io_only ? 1 : int(s_.devices.size()) * s_.workers_per_device),
+          // --io-only encodes on as many workers as compositing would: the same pipeline, without decals
+          workers_(s_.request.io_only ? s_.workers_per_device : int(s_.devices.size()) * s_.workers_per_device),
           depth_(std::size_t(std::max(1, s_.request.queue_depth))),
           to_composite_(depth_),
           to_write_(depth_),
@@ -386,6 +387,10 @@ void Pipeline::compositeFrame(Job& job, Compositor* compositor, BatchTimings& ti
         warnings_.add(job.frame, job.work->report().warnings);  // prepare's and composite's
         if (job.work->report().beauty.rebuilt) beauty_notes_.add(job.frame, {job.work->report().beauty.summary});
         if (!job.work->report().pixel_filter.empty()) filter_notes_.add(job.frame, {job.work->report().pixel_filter});
+        // Encoded here, on each worker, into temporaries; the writer only renames them, in frame order.
+        // With one writer encoding, it was the batch's bottleneck (docs/decisions.md).
+        StageTimer t{timings.encode_s};
+        job.work->stageOutputs();
     } catch (...) {
         job.work.reset();
         job.finished = failure(job.frame, job.output, std::current_exception());
@@ -422,7 +427,7 @@ void Pipeline::writeFrames() {
 FrameResult Pipeline::writeFrame(Job& job) {
     try {
         StageTimer t{timings_[1].write_s};
-        const std::vector<std::string>& written = job.work->writeBack();
+        const std::vector<std::string>& written = job.work->commitOutputs();
         const FrameReport& frame = job.work->report();
         chunks_ += ChunkWriteStats{frame.chunks_copied, frame.chunks_reencoded, frame.pixels_reencoded};
         return FrameResult{job.frame, FrameStatus::Written, written.size() == 1 ? written.front() : job.output, "",
@@ -461,7 +466,7 @@ BatchTimings Pipeline::timings() const {
     BatchTimings sum;
     for (const BatchTimings& t : timings_) {
         sum.read_s += t.read_s, sum.prepare_s += t.prepare_s, sum.composite_s += t.composite_s;
-        sum.kernels_ms += t.kernels_ms, sum.write_s += t.write_s;
+        sum.kernels_ms += t.kernels_ms, sum.encode_s += t.encode_s, sum.write_s += t.write_s;
         sum.read_wait_s += t.read_wait_s, sum.write_idle_s += t.write_idle_s;
     }
     return sum;

@@ -206,7 +206,12 @@ void Frame::composite(Compositor& compositor) {
 }
 
 const std::vector<std::string>& Frame::writeBack() {
-    if (!prepared_) throw Error(ErrorKind::Usage, "Frame::writeBack before Frame::prepare");
+    stageOutputs();
+    return commitOutputs();
+}
+
+void Frame::stageOutputs() {
+    if (!prepared_) throw Error(ErrorKind::Usage, "Frame::stageOutputs before Frame::prepare");
     std::vector<PendingOutput> pending;
     for (const auto& [file, path] : outputs_) {
         const auto record = provenance_.find(file);
@@ -214,12 +219,20 @@ const std::vector<std::string>& Frame::writeBack() {
         pending.push_back({&files_[std::size_t(file)], path});
     }
     const GBuffer& before = before_ ? *before_ : gbuffer_;
-    const ChunkWriteStats chunks = writeOutputsTogether(
-        pending, targets_.preview.empty() ? nullptr : &targets_.preview,
-        [&](const std::string& preview_path) { writePreview(before, gbuffer_, camera_, preview_path, beauty_.before(), beauty_.after()); });
-    report_.chunks_copied = chunks.copied;
-    report_.chunks_reencoded = chunks.reencoded;
-    report_.pixels_reencoded = chunks.pixels_reencoded;
+    staged_ = stageOutputsTogether(
+        pending, targets_.preview.empty() ? nullptr : &targets_.preview, [&](const std::string& preview_path) {
+            writePreview(before, gbuffer_, camera_, preview_path, beauty_.before(), beauty_.after());
+        });
+    report_.chunks_copied = staged_->stats().copied;
+    report_.chunks_reencoded = staged_->stats().reencoded;
+    report_.pixels_reencoded = staged_->stats().pixels_reencoded;
+}
+
+const std::vector<std::string>& Frame::commitOutputs() {
+    if (!staged_) throw Error(ErrorKind::Usage, "Frame::commitOutputs before Frame::stageOutputs");
+    StagedOutputs staged = std::move(*staged_);
+    staged_.reset();
+    staged.commit();
     report_.outputs.clear();
     for (const auto& [file, path] : outputs_) report_.outputs.push_back(path);
     return report_.outputs;

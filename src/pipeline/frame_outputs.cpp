@@ -5,6 +5,7 @@
 #include <cctype>
 #include <filesystem>
 #include <set>
+#include <utility>
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/pipeline.hpp"
@@ -125,38 +126,69 @@ std::vector<fs::path> createMissingFolders(const std::string& file) {
 
 }  // namespace
 
+StagedOutputs::StagedOutputs(StagedOutputs&& other) noexcept
+    : temporaries_(std::exchange(other.temporaries_, {})),
+      preview_(std::exchange(other.preview_, {})),
+      created_folders_(std::exchange(other.created_folders_, {})),
+      stats_(other.stats_) {}
+
+StagedOutputs& StagedOutputs::operator=(StagedOutputs&& other) noexcept {
+    if (this != &other) {
+        discard();
+        temporaries_ = std::exchange(other.temporaries_, {});
+        preview_ = std::exchange(other.preview_, {});
+        created_folders_ = std::exchange(other.created_folders_, {});
+        stats_ = other.stats_;
+    }
+    return *this;
+}
+
+void StagedOutputs::commit() {
+    std::vector<std::pair<std::string, std::string>> all = std::exchange(temporaries_, {});
+    for (auto& preview : std::exchange(preview_, {})) all.push_back(std::move(preview));
+    commitTemporaries(all);  // on a failure it has taken back the temporaries itself
+    created_folders_.clear();
+}
+
+void StagedOutputs::discard() noexcept {
+    for (const auto& [temporary, final_path] : temporaries_) discardTemporary(temporary);
+    for (const auto& [temporary, final_path] : preview_) discardTemporary(temporary);
+    temporaries_.clear();
+    preview_.clear();
+    std::error_code ec;
+    for (auto folder = created_folders_.rbegin(); folder != created_folders_.rend(); ++folder)
+        fs::remove(*folder, ec);  // only if empty
+    created_folders_.clear();
+}
+
+StagedOutputs stageOutputsTogether(const std::vector<PendingOutput>& outputs, const std::string* preview,
+                                   const std::function<void(const std::string&)>& write_preview) {
+    // Everything goes to registered temporaries first (decalcomp/temporary_files.hpp), renamed as one
+    // group by commit(), so a failed write or a termination signal leaves none of the outputs behind.
+    StagedOutputs staged;  // discards what it holds if a write below throws
+    auto createFoldersFor = [&](const std::string& file) {
+        for (fs::path& folder : createMissingFolders(file)) staged.created_folders_.push_back(std::move(folder));
+    };
+    if (preview) {
+        createFoldersFor(*preview);
+        const std::string preview_tmp = temporaryPathFor(*preview);
+        staged.preview_.reserve(1);  // no allocation between creating the temporary and holding it
+        createTemporary(preview_tmp, *preview);
+        staged.preview_.emplace_back(preview_tmp, *preview);
+        write_preview(preview_tmp);
+    }
+    for (const PendingOutput& output : outputs) {
+        createFoldersFor(output.path);
+        staged.temporaries_.emplace_back(writeExrTemporary(*output.image, output.path, &staged.stats_), output.path);
+    }
+    return staged;
+}
+
 ChunkWriteStats writeOutputsTogether(const std::vector<PendingOutput>& outputs, const std::string* preview,
                                      const std::function<void(const std::string&)>& write_preview) {
-    // Everything goes to registered temporaries first (decalcomp/temporary_files.hpp), renamed as one
-    // group, so a failed write or a termination signal leaves none of the outputs behind.
-    std::vector<std::pair<std::string, std::string>> written;  // temporary, final
-    std::string preview_tmp;
-    ChunkWriteStats stats;
-    std::vector<fs::path> created;  // folders this write made
-    auto createFoldersFor = [&](const std::string& file) {
-        for (fs::path& folder : createMissingFolders(file)) created.push_back(std::move(folder));
-    };
-    try {
-        if (preview) {
-            createFoldersFor(*preview);
-            preview_tmp = temporaryPathFor(*preview);
-            createTemporary(preview_tmp, *preview);
-            write_preview(preview_tmp);
-        }
-        for (const PendingOutput& output : outputs) {
-            createFoldersFor(output.path);
-            written.emplace_back(writeExrTemporary(*output.image, output.path, &stats), output.path);
-        }
-    } catch (...) {
-        for (const auto& [temporary, final_path] : written) discardTemporary(temporary);
-        if (!preview_tmp.empty()) discardTemporary(preview_tmp);
-        std::error_code ec;
-        for (auto folder = created.rbegin(); folder != created.rend(); ++folder) fs::remove(*folder, ec);  // if empty
-        throw;
-    }
-    if (preview) written.emplace_back(preview_tmp, *preview);  // renamed after the EXRs
-    commitTemporaries(written);
-    return stats;
+    StagedOutputs staged = stageOutputsTogether(outputs, preview, write_preview);
+    staged.commit();
+    return staged.stats();
 }
 
 }  // namespace decalcomp

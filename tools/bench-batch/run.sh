@@ -8,7 +8,8 @@
 #   BIN=build-batch sh tools/bench-batch/run.sh [WORK_DIR] [FRAMES] [DEVICE] [REPEATS] [WIDTHxHEIGHT] [DECALS]
 #
 # BIN holds decalcomp, decalcomp-gbuffer-gen and decalcomp-bench-batch; OIIOTOOL and TIME_BIN
-# override the tools; BATCH_ARGS adds options to the compositing runs (e.g. "--workers 2").
+# override the tools; BATCH_ARGS adds options to the compositing runs (e.g. "--workers 2"); MAKE_ONLY=1
+# makes the frames and scenes and stops.
 set -eu
 WORK=${1:-/tmp/decalcomp-bench-batch}
 FRAMES=${2:-48}
@@ -32,6 +33,7 @@ if [ ! -f "$WORK/in/f.$(printf %04d "$FRAMES").exr" ] || [ ! -f "$WORK/scene/sce
   "$BIN/decalcomp-bench-batch" --width "$W" --height "$H" --decals "$DECALS" --animate "$FRAMES" -o "$WORK/scene-animated"
 fi
 cat "$WORK"/in/*.exr > /dev/null  # page cache: every run reads from memory
+[ -z "${MAKE_ONLY:-}" ] || exit 0  # MAKE_ONLY=1: the frames and scenes, no runs (ab.sh)
 echo "frame: $(ls -l "$WORK/in/f.0001.exr" | awk '{print $5}') bytes; channels:" >&2
 "$BIN/decalcomp" info "$WORK/in/f.0001.exr" 2>&1 | sed -n '2,30p' | grep -E '^\s+\S+ \((float|half|uint)\)' | tr -s ' ' | tr '\n' ' ' >&2
 echo >&2

@@ -56,9 +56,9 @@ void run(BatchFlags& f) {
         const double n = std::max(1, report.progress.written + report.progress.failed);
         std::cerr << fmt::format(
             "timing, ms per frame (thread time): read {:.1f}, prepare {:.1f}, composite {:.1f} (kernels {:.2f}), "
-            "write {:.1f}; reader blocked {:.1f}, writer idle {:.1f}\n",
-            1e3 * t.read_s / n, 1e3 * t.prepare_s / n, 1e3 * t.composite_s / n, t.kernels_ms / n, 1e3 * t.write_s / n,
-            1e3 * t.read_wait_s / n, 1e3 * t.write_idle_s / n);
+            "encode {:.1f}, write {:.1f}; reader blocked {:.1f}, writer idle {:.1f}\n",
+            1e3 * t.read_s / n, 1e3 * t.prepare_s / n, 1e3 * t.composite_s / n, t.kernels_ms / n, 1e3 * t.encode_s / n,
+            1e3 * t.write_s / n, 1e3 * t.read_wait_s / n, 1e3 * t.write_idle_s / n);
     }
     if (f.stats)
         std::cout << fmt::format("stats: frames written {}, chunks copied {}, chunks re-encoded {}, pixels re-encoded {}\n",
