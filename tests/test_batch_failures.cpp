@@ -19,6 +19,8 @@
 #include <thread>
 #include <vector>
 
+#include "batch/batch_files.hpp"
+#include "decalcomp/batch.hpp"
 #include "decalcomp/camera.hpp"
 #include "decalcomp/exr_file.hpp"
 #include "decalcomp/frame_pattern.hpp"
@@ -235,8 +237,9 @@ TEST(TemporaryFiles, RemoveLiveTemporariesRemovesOnlyUncommittedOnes) {
     ASSERT_GE(child, 0);
     if (child == 0) {
         const int before = liveTemporaryCount();
-        createTemporary(temporaryPathFor(kept), kept);
-        commitTemporaries({{temporaryPathFor(kept), kept}});
+        const std::string kept_temporary = temporaryPathFor(kept);
+        createTemporary(kept_temporary, kept);
+        commitTemporaries({{kept_temporary, kept}});
         createTemporary(temporaryPathFor(live_a), live_a);
         createTemporary(temporaryPathFor(live_b), live_b);
         const bool counted = liveTemporaryCount() == before + 2;
@@ -254,7 +257,9 @@ TEST(TemporaryFiles, DiscardAndFailedCreateLeaveNothingRegistered) {
     test::ScratchDir dir;
     const int before = liveTemporaryCount();
     const std::string target = dir.file("out.exr"), temporary = temporaryPathFor(target);
-    EXPECT_EQ(fs::path(temporary).filename().string(), ".out.exr.tmp-" + std::to_string(::getpid()));
+    const std::string prefix = ".out.exr.tmp-" + std::to_string(::getpid()) + "-";
+    EXPECT_EQ(fs::path(temporary).filename().string().rfind(prefix, 0), 0u) << temporary;
+    EXPECT_NE(temporaryPathFor(target), temporary);  // a second write of the output gets its own
     createTemporary(temporary, target);
     EXPECT_TRUE(fs::exists(temporary));
     EXPECT_EQ(liveTemporaryCount(), before + 1);
@@ -439,6 +444,21 @@ TEST(BatchFirstFailure, ResumedRunStopsAtTheFailureWithSkippedFramesCounted) {
     EXPECT_NE(r.output.find("batch: 1 written, 2 skipped, 1 failed of 6 frames"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("stopped at frame 4, 2 not processed"), std::string::npos) << r.output;
     for (int f = 1; f <= 6; ++f) EXPECT_EQ(fs::exists(s.out(f)), f <= 3) << f;
+}
+
+// Encoded frames hold their temporaries until their turn to be renamed: however deep the queues
+// and many the workers, the frames in flight never hold more than the registry keeps.
+TEST(BatchFramesInFlight, BoundedByTheTemporariesTheyMayHold) {
+    BatchRequest request;
+    EXPECT_EQ(batch::framesInFlight(request, 2), 2 * 2 + 2 + 1);  // the defaults: queues and workers
+    request.queue_depth = 64;
+    request.preview = "preview.####.png";
+    request.pass_files = {{Attribute::Depth, "depth.####.exr"}, {Attribute::Normal, "normal.####.exr"}};
+    request.extra_inputs = {"ids.####.exr"};
+    const int frames = batch::framesInFlight(request, 64);
+    EXPECT_GE(frames, 1);
+    EXPECT_LE(frames * (4 + 1), kMaxLiveTemporaries - 1);  // 4 files a frame, each an output, and a preview
+    EXPECT_EQ(frames, (kMaxLiveTemporaries - 1) / 5);
 }
 
 }  // namespace

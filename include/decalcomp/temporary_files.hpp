@@ -1,5 +1,5 @@
 #pragma once
-// Temporary files this process is writing (".NAME.tmp-PID" beside each output), known to a
+// Temporary files this process is writing (".NAME.tmp-PID-N" beside each output), known to a
 // termination signal handler so an interrupted run removes every one of them: outputs are written
 // to a temporary and renamed into place, so an output that exists is always complete.
 #include <string>
@@ -8,14 +8,19 @@
 
 namespace decalcomp {
 
-// ".NAME.tmp-PID" beside `target`, so the final rename stays within one file system.
+// ".NAME.tmp-PID-N" beside `target`, so the final rename stays within one file system; N counts
+// the calls, so that two writes of one output in flight at once (a batch's frames that share an
+// output) never share a temporary.
 std::string temporaryPathFor(const std::string& target);
+
+// How many temporaries may be live at once (createTemporary refuses more).
+constexpr int kMaxLiveTemporaries = 256;
 
 // Registers `path` as a live temporary, then creates it (empty, truncated if a stale one is
 // there), so a signal arriving at any moment after this call finds it and removes it. The caller
 // then writes the file under that name. Throws Error(Output) naming `output` (what the temporary
 // will become) when it cannot be created, the path is too long to keep, or too many temporaries
-// are live at once (256).
+// are live at once (kMaxLiveTemporaries).
 void createTemporary(const std::string& path, const std::string& output);
 
 // Renames every temporary onto its final path, as one group: a termination signal arriving in

@@ -257,12 +257,12 @@ public:
 
     explicit Pipeline(SetUp setup)
         : s_(std::move(setup)),
-          // --io-only encodes on as many workers as compositing would: the same pipeline, without decals
+          // --io-only encodes on as many workers as compositing on one device: the same pipeline, without decals
           workers_(s_.request.io_only ? s_.workers_per_device : int(s_.devices.size()) * s_.workers_per_device),
           depth_(std::size_t(std::max(1, s_.request.queue_depth))),
           to_composite_(depth_),
           to_write_(depth_),
-          in_flight_(int(2 * depth_) + workers_ + 1),
+          in_flight_(batch::framesInFlight(s_.request, workers_)),
           timings_(std::size_t(workers_) + 2),
           sheet_(int(s_.plan.frames.size())) {}
 

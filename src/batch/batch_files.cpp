@@ -12,6 +12,7 @@
 #include "decalcomp/error.hpp"
 #include "decalcomp/gbuffer.hpp"
 #include "decalcomp/pipeline.hpp"
+#include "decalcomp/temporary_files.hpp"
 
 namespace decalcomp::batch {
 
@@ -181,6 +182,13 @@ void removeStaleTemporaries(const BatchRequest& request, const BatchPlan& plan) 
             }
         }
     }
+}
+
+int framesInFlight(const BatchRequest& request, int workers) {
+    const int outputs = 1 + int(request.extra_inputs.size() + request.pass_files.size());  // at most one per file
+    const int per_frame = outputs + (request.preview.empty() ? 0 : 1);
+    const int wanted = 2 * std::max(1, request.queue_depth) + workers + 1;
+    return std::max(1, std::min(wanted, (kMaxLiveTemporaries - 1) / per_frame));
 }
 
 }  // namespace decalcomp::batch

@@ -42,7 +42,13 @@ void checkContactSheet(const BatchRequest& request, const BatchPlan& plan, const
 // Creates the folders of every frame's outputs and previews (and the contact sheet's); Error(Output) when one cannot be.
 void createOutputFolders(const BatchRequest& request, const BatchPlan& plan);
 
-// Temporaries (".NAME.tmp-PID", decalcomp/temporary_files.hpp) that a killed run left for this
+// How many frames may be between the batch's reader and its writer: enough for `queue_depth`
+// frames to wait between each pair of stages and for every worker to hold one, but never more
+// than the temporaries their encoded outputs hold at once can keep (kMaxLiveTemporaries; one is
+// left for the contact sheet): a frame holds them from its encoding to its turn to be renamed.
+int framesInFlight(const BatchRequest& request, int workers);
+
+// Temporaries (".NAME.tmp-PID-N", decalcomp/temporary_files.hpp) that a killed run left for this
 // plan's outputs and previews are removed; another shard's are left alone.
 void removeStaleTemporaries(const BatchRequest& request, const BatchPlan& plan);
 

@@ -27,7 +27,7 @@ namespace decalcomp {
 
 namespace {
 
-constexpr int kSlotCount = 256;
+constexpr int kSlotCount = kMaxLiveTemporaries;
 constexpr std::size_t kPathCapacity = 4096;  // PATH_MAX on Linux, terminating NUL included
 
 // A slot's life: Free -> Claimed (its owner copies the path in) -> Creating (published; the file is
@@ -150,8 +150,9 @@ constexpr int kTerminationSignals[] = {SIGINT, SIGTERM, SIGHUP};
 }  // namespace
 
 std::string temporaryPathFor(const std::string& target) {
+    static std::atomic<unsigned> calls{0};
     const std::filesystem::path path(target);
-    return (path.parent_path() / fmt::format(".{}.tmp-{}", path.filename().string(), ::getpid())).string();
+    return (path.parent_path() / fmt::format(".{}.tmp-{}-{}", path.filename().string(), ::getpid(), calls++)).string();
 }
 
 void createTemporary(const std::string& path, const std::string& output) {

@@ -212,6 +212,7 @@ const std::vector<std::string>& Frame::writeBack() {
 
 void Frame::stageOutputs() {
     if (!prepared_) throw Error(ErrorKind::Usage, "Frame::stageOutputs before Frame::prepare");
+    if (staged_) throw Error(ErrorKind::Usage, "Frame::stageOutputs twice without Frame::commitOutputs");
     std::vector<PendingOutput> pending;
     for (const auto& [file, path] : outputs_) {
         const auto record = provenance_.find(file);

@@ -144,8 +144,12 @@ StagedOutputs& StagedOutputs::operator=(StagedOutputs&& other) noexcept {
 }
 
 void StagedOutputs::commit() {
-    std::vector<std::pair<std::string, std::string>> all = std::exchange(temporaries_, {});
-    for (auto& preview : std::exchange(preview_, {})) all.push_back(std::move(preview));
+    std::vector<std::pair<std::string, std::string>> all;
+    all.reserve(temporaries_.size() + preview_.size());  // before anything leaves the members
+    for (auto& entry : temporaries_) all.push_back(std::move(entry));
+    for (auto& entry : preview_) all.push_back(std::move(entry));
+    temporaries_.clear();
+    preview_.clear();
     commitTemporaries(all);  // on a failure it has taken back the temporaries itself
     created_folders_.clear();
 }
@@ -169,17 +173,22 @@ StagedOutputs stageOutputsTogether(const std::vector<PendingOutput>& outputs, co
     auto createFoldersFor = [&](const std::string& file) {
         for (fs::path& folder : createMissingFolders(file)) staged.created_folders_.push_back(std::move(folder));
     };
+    // Every record is allocated before its temporary is created, so that a created temporary is
+    // always held (and so discarded on a failure).
+    staged.temporaries_.reserve(outputs.size());
     if (preview) {
         createFoldersFor(*preview);
-        const std::string preview_tmp = temporaryPathFor(*preview);
-        staged.preview_.reserve(1);  // no allocation between creating the temporary and holding it
-        createTemporary(preview_tmp, *preview);
-        staged.preview_.emplace_back(preview_tmp, *preview);
-        write_preview(preview_tmp);
+        std::pair<std::string, std::string> entry{temporaryPathFor(*preview), *preview};
+        staged.preview_.reserve(1);
+        createTemporary(entry.first, *preview);
+        staged.preview_.push_back(std::move(entry));
+        write_preview(staged.preview_.back().first);
     }
     for (const PendingOutput& output : outputs) {
         createFoldersFor(output.path);
-        staged.temporaries_.emplace_back(writeExrTemporary(*output.image, output.path, &staged.stats_), output.path);
+        std::string final_path = output.path;
+        staged.temporaries_.emplace_back(writeExrTemporary(*output.image, output.path, &staged.stats_),
+                                         std::move(final_path));
     }
     return staged;
 }
