@@ -99,8 +99,7 @@ public:
 private:
     friend StagedOutputs stageOutputsTogether(const std::vector<PendingOutput>&, const std::string*,
                                               const std::function<void(const std::string&)>&);
-    std::vector<std::pair<std::string, std::string>> temporaries_;  // temporary, final: the EXRs
-    std::vector<std::pair<std::string, std::string>> preview_;      // and the preview, renamed last
+    std::vector<std::pair<std::string, std::string>> temporaries_;  // temporary, final; in commit order
     std::vector<std::filesystem::path> created_folders_;            // outermost first
     ChunkWriteStats stats_;
 };

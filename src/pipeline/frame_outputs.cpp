@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <set>
@@ -128,7 +129,6 @@ std::vector<fs::path> createMissingFolders(const std::string& file) {
 
 StagedOutputs::StagedOutputs(StagedOutputs&& other) noexcept
     : temporaries_(std::exchange(other.temporaries_, {})),
-      preview_(std::exchange(other.preview_, {})),
       created_folders_(std::exchange(other.created_folders_, {})),
       stats_(other.stats_) {}
 
@@ -136,7 +136,6 @@ StagedOutputs& StagedOutputs::operator=(StagedOutputs&& other) noexcept {
     if (this != &other) {
         discard();
         temporaries_ = std::exchange(other.temporaries_, {});
-        preview_ = std::exchange(other.preview_, {});
         created_folders_ = std::exchange(other.created_folders_, {});
         stats_ = other.stats_;
     }
@@ -144,21 +143,13 @@ StagedOutputs& StagedOutputs::operator=(StagedOutputs&& other) noexcept {
 }
 
 void StagedOutputs::commit() {
-    std::vector<std::pair<std::string, std::string>> all;
-    all.reserve(temporaries_.size() + preview_.size());  // before anything leaves the members
-    for (auto& entry : temporaries_) all.push_back(std::move(entry));
-    for (auto& entry : preview_) all.push_back(std::move(entry));
-    temporaries_.clear();
-    preview_.clear();
-    commitTemporaries(all);  // on a failure it has taken back the temporaries itself
+    commitTemporaries(std::exchange(temporaries_, {}));  // on a failure it has taken back the temporaries itself
     created_folders_.clear();
 }
 
 void StagedOutputs::discard() noexcept {
     for (const auto& [temporary, final_path] : temporaries_) discardTemporary(temporary);
-    for (const auto& [temporary, final_path] : preview_) discardTemporary(temporary);
     temporaries_.clear();
-    preview_.clear();
     std::error_code ec;
     for (auto folder = created_folders_.rbegin(); folder != created_folders_.rend(); ++folder)
         fs::remove(*folder, ec);  // only if empty
@@ -175,14 +166,13 @@ StagedOutputs stageOutputsTogether(const std::vector<PendingOutput>& outputs, co
     };
     // Every record is allocated before its temporary is created, so that a created temporary is
     // always held (and so discarded on a failure).
-    staged.temporaries_.reserve(outputs.size());
+    staged.temporaries_.reserve(outputs.size() + (preview ? 1 : 0));
     if (preview) {
         createFoldersFor(*preview);
         std::pair<std::string, std::string> entry{temporaryPathFor(*preview), *preview};
-        staged.preview_.reserve(1);
         createTemporary(entry.first, *preview);
-        staged.preview_.push_back(std::move(entry));
-        write_preview(staged.preview_.back().first);
+        staged.temporaries_.push_back(std::move(entry));
+        write_preview(staged.temporaries_.back().first);
     }
     for (const PendingOutput& output : outputs) {
         createFoldersFor(output.path);
@@ -190,6 +180,8 @@ StagedOutputs stageOutputsTogether(const std::vector<PendingOutput>& outputs, co
         staged.temporaries_.emplace_back(writeExrTemporary(*output.image, output.path, &staged.stats_),
                                          std::move(final_path));
     }
+    // the preview, written first, is renamed after the EXRs
+    if (preview) std::rotate(staged.temporaries_.begin(), staged.temporaries_.begin() + 1, staged.temporaries_.end());
     return staged;
 }
 
