@@ -253,6 +253,29 @@ TEST(TemporaryFiles, RemoveLiveTemporariesRemovesOnlyUncommittedOnes) {
     EXPECT_EQ(filesUnder(dir.path()), std::set<std::string>{"kept.exr"});
 }
 
+// A termination signal is handled on one thread while the others run on until _exit: a writer
+// that opens its temporary just after the handler removed it must not create it again (found by
+// the batch's signal test, where a worker opened its preview after the handler's unlink).
+TEST(TemporaryFiles, AWriteAfterTheRemovalLeavesNothingBehind) {
+    test::ScratchDir dir;
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        const std::string target = dir.file("late.exr");
+        const std::string opening_name = createTemporary(temporaryPathFor(target), target);
+        removeLiveTemporaries();
+        std::ofstream late(opening_name, std::ios::binary | std::ios::trunc);
+        late << "written after the removal";
+        late.close();
+        ::_exit(late ? 0 : 1);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0) << "the late write failed";
+    EXPECT_EQ(filesUnder(dir.path()), std::set<std::string>{});
+}
+
 TEST(TemporaryFiles, DiscardAndFailedCreateLeaveNothingRegistered) {
     test::ScratchDir dir;
     const int before = liveTemporaryCount();

@@ -17,11 +17,14 @@ std::string temporaryPathFor(const std::string& target);
 constexpr int kMaxLiveTemporaries = 256;
 
 // Registers `path` as a live temporary, then creates it (empty, truncated if a stale one is
-// there), so a signal arriving at any moment after this call finds it and removes it. The caller
-// then writes the file under that name. Throws Error(Output) naming `output` (what the temporary
-// will become) when it cannot be created, the path is too long to keep, or too many temporaries
-// are live at once (kMaxLiveTemporaries).
-void createTemporary(const std::string& path, const std::string& output);
+// there), so a signal arriving at any moment after this call finds it and removes it. Returns the
+// name to open it by for writing: the registry holds the file open until it is committed or
+// discarded, and the name reaches it through that descriptor (/proc/self/fd/N), so a write that
+// starts after a signal removed the temporary cannot bring it back. Commit and discard take
+// `path`. Throws Error(Output) naming `output` (what the temporary will become) when it cannot be
+// created, the path is too long to keep, or too many temporaries are live at once
+// (kMaxLiveTemporaries).
+std::string createTemporary(const std::string& path, const std::string& output);
 
 // Renames every temporary onto its final path, as one group: a termination signal arriving in
 // the middle finishes the renames instead of leaving some outputs of the group in place and others

@@ -26,13 +26,13 @@ std::string fingerprintText(std::uint64_t fingerprint) { return fmt::format("{:0
 // Writes through a temporary renamed by the caller; removes it when writing fails.
 void writeImage(const std::string& temporary, const std::string& final_path, const char* format,
                 const OIIO::ImageSpec& image_spec, OIIO::TypeDesc type, const void* data) {
-    createTemporary(temporary, final_path);
+    const std::string opening_name = createTemporary(temporary, final_path);
     // The same bake gives the same bytes (a pipeline may cache on them): no capture date, which
     // OpenImageIO's EXR writer would otherwise stamp with the current time.
     OIIO::ImageSpec spec = image_spec;
     spec.attribute("DateTime", "");
     auto out = OIIO::ImageOutput::create(format);
-    if (!out || !out->open(temporary, spec) || !out->write_image(type, data) || !out->close()) {
+    if (!out || !out->open(opening_name, spec) || !out->write_image(type, data) || !out->close()) {
         const std::string why = out ? out->geterror() : OIIO::geterror();
         discardTemporary(temporary);
         throw outputError(fmt::format("{}: cannot write the baked layer: {}", final_path, why));

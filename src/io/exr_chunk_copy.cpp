@@ -141,15 +141,16 @@ void writePart(const CoreContext& in, const CoreContext& out, const ExrPart& par
 
 }  // namespace
 
-ChunkWriteStats writeCopyingUnchangedChunks(const ExrImage& image, const std::string& target) {
+ChunkWriteStats writeCopyingUnchangedChunks(const ExrImage& image, const std::string& target, const std::string& name) {
     const CoreContext in(image.path, CoreContext::Mode::Read);
-    CoreContext out(target, CoreContext::Mode::Write);
+    CoreContext out(target, CoreContext::Mode::Write, name);
     int parts = 0;
     in.require(exr_get_count(in.context(), &parts), 0, "parts");
     if (parts != int(image.parts.size()))
-        throw outputError(fmt::format("{}: the input {} has {} parts where {} were read; was it replaced while this "
-                                      "ran?",
-                                      target, image.path, parts, image.parts.size()));
+        throw outputError(
+            fmt::format("{}: the input {} has {} parts where {} were read; was it replaced while this "
+                        "ran?",
+                        name, image.path, parts, image.parts.size()));
     declareParts(in, out, parts, image.added_attributes);
     ChunkWriteStats stats;
     for (int p = 0; p < parts; ++p) writePart(in, out, image.parts[std::size_t(p)], p, stats);

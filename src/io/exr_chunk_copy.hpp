@@ -11,7 +11,8 @@ namespace decalcomp::io {
 // input file (image.path) has them, each chunk nobody changed copied compressed from the input,
 // each changed chunk encoded from the image's samples with the part's own compression
 // (exr_chunk_encode.hpp). Throws
-// Error(Output) naming `target` (Error(Input) naming the input when it cannot be read again).
-ChunkWriteStats writeCopyingUnchangedChunks(const ExrImage& image, const std::string& target);
+// Error(Output) naming `name`, what `target` will become (Error(Input) naming the input when it
+// cannot be read again).
+ChunkWriteStats writeCopyingUnchangedChunks(const ExrImage& image, const std::string& target, const std::string& name);
 
 }  // namespace decalcomp::io

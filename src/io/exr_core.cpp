@@ -21,7 +21,8 @@ void CoreContext::remember(exr_const_context_t, exr_result_t, const char* messag
     if (message) last_message = message;
 }
 
-CoreContext::CoreContext(const std::string& path, Mode mode) : path_(path), mode_(mode) {
+CoreContext::CoreContext(const std::string& path, Mode mode, const std::string& name)
+    : path_(name.empty() ? path : name), mode_(mode) {
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = &CoreContext::remember;  // instead of OpenEXR's own stderr lines
     last_message.clear();
@@ -33,10 +34,11 @@ CoreContext::CoreContext(const std::string& path, Mode mode) : path_(path), mode
         // OpenEXR's C++ reader takes the last copy: the two would read different files, and every
         // size check made here would be about the wrong one (found by fuzzing).
         exr_finish(&context_);
-        throw inputError(fmt::format("{}: header: {}; the header is corrupt", path, reason(result)));
+        throw inputError(fmt::format("{}: header: {}; the header is corrupt", path_, reason(result)));
     }
     if (result == EXR_ERR_SUCCESS) return;
-    const std::string text = fmt::format("{}: cannot {}: {}", path, mode == Mode::Read ? "read" : "write", reason(result));
+    const std::string text =
+        fmt::format("{}: cannot {}: {}", path_, mode == Mode::Read ? "read" : "write", reason(result));
     if (mode == Mode::Read) throw inputError(text);
     throw outputError(text);
 }

@@ -12,8 +12,8 @@ class CoreContext {
 public:
     enum class Mode { Read, Write };
     // Read: Error(Input) naming `path` when OpenEXR cannot parse it. Write: creates (replaces)
-    // `path`, Error(Output) on failure.
-    CoreContext(const std::string& path, Mode mode);
+    // `path`, Error(Output) on failure. Messages name `name` (default: `path`).
+    CoreContext(const std::string& path, Mode mode, const std::string& name = {});
     // Reads a file held in memory (`bytes` must outlive the context); `name` names it in messages.
     CoreContext(const std::string& name, const std::string& bytes);
     ~CoreContext();

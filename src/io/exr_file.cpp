@@ -225,7 +225,7 @@ ChunkWriteStats writeFile(const ExrImage& image, const std::string& path, const 
         stats.copied = chunkCount(image);
         return stats;
     }
-    if (image.copy_unchanged_chunks) return io::writeCopyingUnchangedChunks(image, temporary);
+    if (image.copy_unchanged_chunks) return io::writeCopyingUnchangedChunks(image, temporary, path);
     writeParts(image, temporary);
     stats.reencoded = chunkCount(image);
     for (const ExrPart& part : image.parts) stats.pixels_reencoded += std::size_t(part.width) * std::size_t(part.height);
@@ -276,9 +276,9 @@ std::string writeExrTemporary(const ExrImage& image, const std::string& path, Ch
 
     // Registered before the file exists, so a termination signal removes it (temporary_files.hpp).
     const std::string temporary = temporaryPathFor(path);
-    createTemporary(temporary, path);
+    const std::string opening_name = createTemporary(temporary, path);
     try {
-        const ChunkWriteStats written = writeFile(image, path, temporary);
+        const ChunkWriteStats written = writeFile(image, path, opening_name);
         if (stats) *stats += written;
     } catch (const Error&) {
         discardTemporary(temporary);

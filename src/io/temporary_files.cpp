@@ -42,6 +42,7 @@ struct Slot {
     std::atomic<pid_t> owner{0};    // the thread creating the file
     std::atomic<int> group{-1};     // the slot holding this temporary's commit group state; -1: none
     std::atomic<int> commit{Open};  // as a group's first slot
+    std::atomic<int> fd{-1};        // held open from creation to release; writers open the file through it
     char path[kPathCapacity] = {};
     char final_path[kPathCapacity] = {};  // the rename target, set before its group commits
 };
@@ -90,6 +91,7 @@ void release(int slot, const std::string& path) {
         std::lock_guard lock(g_index_mutex);
         g_index.erase(path);
     }
+    if (const int fd = g_slots[slot].fd.exchange(-1); fd >= 0) ::close(fd);
     int live = Live;
     g_slots[slot].state.compare_exchange_strong(live, Free);
 }
@@ -155,7 +157,15 @@ std::string temporaryPathFor(const std::string& target) {
     return (path.parent_path() / fmt::format(".{}.tmp-{}-{}", path.filename().string(), ::getpid(), calls++)).string();
 }
 
-void createTemporary(const std::string& path, const std::string& output) {
+// The name a writer opens a temporary by: the descriptor the registry holds, through /proc, so a
+// writer that opens it after the handler unlinked its name (the handler runs on one thread while
+// the others go on until _exit) writes to the unnamed file instead of creating the name again.
+std::string openingName(int fd, const std::string& path) {
+    static const bool proc = ::access("/proc/self/fd", X_OK) == 0;
+    return proc ? fmt::format("/proc/self/fd/{}", fd) : path;
+}
+
+std::string createTemporary(const std::string& path, const std::string& output) {
     if (path.size() >= kPathCapacity)
         throw outputError(fmt::format("{}: cannot write: the path is longer than {} bytes; use a shorter one", output,
                                       kPathCapacity - 1));
@@ -183,13 +193,20 @@ void createTemporary(const std::string& path, const std::string& output) {
     }
     const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
     const int error = errno;
-    if (fd >= 0) ::close(fd);
+    slot.fd = fd;
     int creating = Creating;
     if (!slot.state.compare_exchange_strong(creating, Live)) waitForExit();  // the handler took it
     if (fd < 0) {
         release(i, path);
         throw outputError(fmt::format("{}: cannot write {}: {}; check that the folder exists and is writable", output,
                                       std::filesystem::path(path).filename().string(), std::strerror(error)));
+    }
+    try {
+        return openingName(fd, path);
+    } catch (...) {  // out of memory: nothing may stay behind that the caller does not hold
+        ::unlink(path.c_str());
+        release(i, path);
+        throw;
     }
 }
 

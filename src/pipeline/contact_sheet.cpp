@@ -73,10 +73,11 @@ void ContactSheet::write(const std::string& path) const {
                 }
     }
     const std::string tmp = temporaryPathFor(path);
-    createTemporary(tmp, path);
+    const std::string opening_name = createTemporary(tmp, path);
     auto out = OIIO::ImageOutput::create("png");
     const OIIO::ImageSpec spec(out_w, out_h, 3, OIIO::TypeDesc::UINT8);
-    if (!out || !out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close()) {
+    if (!out || !out->open(opening_name, spec) || !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) ||
+        !out->close()) {
         const std::string why = out ? out->geterror() : OIIO::geterror();
         discardTemporary(tmp);
         throw outputError(fmt::format("{}: cannot write the contact sheet: {}", path, why));

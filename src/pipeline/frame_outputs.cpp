@@ -170,9 +170,9 @@ StagedOutputs stageOutputsTogether(const std::vector<PendingOutput>& outputs, co
     if (preview) {
         createFoldersFor(*preview);
         std::pair<std::string, std::string> entry{temporaryPathFor(*preview), *preview};
-        createTemporary(entry.first, *preview);
+        const std::string opening_name = createTemporary(entry.first, *preview);
         staged.temporaries_.push_back(std::move(entry));
-        write_preview(staged.temporaries_.back().first);
+        write_preview(opening_name);
     }
     for (const PendingOutput& output : outputs) {
         createFoldersFor(output.path);
