@@ -27,7 +27,7 @@ endforeach()
 # public headers.
 set(DECALCOMP_PUBLIC_DEPENDENCIES decalcomp_opencl_public OpenEXR::OpenEXR glm::glm)
 set(DECALCOMP_PRIVATE_DEPENDENCIES OpenEXR::OpenEXRCore OpenImageIO::OpenImageIO tinyobjloader::tinyobjloader
-    OpenMP::OpenMP_CXX Threads::Threads)
+    OpenMP::OpenMP_CXX Threads::Threads deflate)
 
 # decalcomp_opencl without the build tree's own target name: the same definitions, exported.
 add_library(decalcomp_opencl_public INTERFACE)

@@ -8,7 +8,7 @@ PACKAGES="build-essential cmake ninja-build pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo clang
   libopenexr-dev libopenimageio-dev openimageio-tools libglm-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev
-  libtinyobjloader-dev lld
+  libtinyobjloader-dev libdeflate-dev zlib1g-dev lld
   pybind11-dev python3-dev python3-numpy python3-pytest python3-openimageio python3-venv python3-pip help2man bash-completion libopencolorio-dev
   slurm-wlm slurmctld slurmd slurm-client munge
   clang-15 libfuzzer-15-dev libomp-15-dev llvm-15"

@@ -16,6 +16,7 @@
 #include "decalcomp/error.hpp"
 #include "io/exr_core.hpp"
 #include "io/exr_layout.hpp"
+#include "io/exr_zip_encode.hpp"
 
 namespace decalcomp::io {
 
@@ -65,6 +66,7 @@ std::string encodeInMemory(const ExrPart& part, const Imath::Box2i& box) {
 }  // namespace
 
 std::vector<std::string> encodeChunks(const ExrPart& part, int first, int last, const std::string& path) {
+    if (canEncodeZip(part)) return encodeZipChunks(part, first, last, path);
     const ChunkLayout& layout = part.chunks;
     Imath::Box2i box = layout.box(first);
     box.extendBy(layout.box(last));
