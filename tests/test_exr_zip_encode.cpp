@@ -5,11 +5,14 @@
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfCompression.h>
 #include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfThreading.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "decalcomp/exr_file.hpp"
@@ -29,7 +32,10 @@ constexpr int kNoiseLines = 16;           // the first lines hold random bytes: 
 ExrImage threeTypeImage(Imf::Compression compression) {
     ExrImage image;
     ExrPart& part = image.parts.emplace_back();
-    part.header = Imf::Header(kWidth, kHeight);
+    // a data window away from the origin, as crops and overscan have
+    const Imath::V2i origin(-3, 5);
+    const Imath::Box2i window(origin, origin + Imath::V2i(kWidth - 1, kHeight - 1));
+    part.header = Imf::Header(window, window);
     part.header.compression() = compression;
     part.width = kWidth, part.height = kHeight;
     std::mt19937 random(7);
@@ -51,30 +57,39 @@ ExrImage threeTypeImage(Imf::Compression compression) {
     return image;
 }
 
-class ZipEncode : public testing::TestWithParam<Imf::Compression> {
+// The compression, and the threads of OpenEXR's pool (0: the chunks are deflated on the caller).
+using Variant = std::tuple<Imf::Compression, int>;
+
+class ZipEncode : public testing::TestWithParam<Variant> {
 protected:
+    void SetUp() override { Imf::setGlobalThreadCount(std::get<1>(GetParam())); }
+    void TearDown() override { Imf::setGlobalThreadCount(0); }
+    Imf::Compression compression() const { return std::get<0>(GetParam()); }
     test::ScratchDir dir;
 };
 
 // The input is written whole by OpenEXR; every chunk is then marked changed and written again
-// through the chunk writer, so each is deflated here.
+// through the chunk writer, so each is deflated here. The part's channels are held in the reverse
+// of the header's order: a chunk lays them out in the header's.
 TEST_P(ZipEncode, EveryChunkDecodesByOpenExrAndIsNoBiggerThanItsOwn) {
     const std::string input = dir.file("in.exr"), output = dir.file("out.exr");
-    test::writeWithCompression(threeTypeImage(GetParam()), GetParam(), false, input);
+    test::writeWithCompression(threeTypeImage(compression()), compression(), false, input);
     ExrImage image = readExr(input);
     ASSERT_TRUE(io::canEncodeZip(image.parts.at(0)));
+    std::reverse(image.parts[0].channels.begin(), image.parts[0].channels.end());
     image.copy_unchanged_chunks = true;
-    for (int y = 0; y < kHeight; ++y) image.parts[0].markChanged(0, y);
+    const int y0 = image.parts[0].header.dataWindow().min.y;
+    for (int y = y0; y < y0 + kHeight; ++y) image.parts[0].markChanged(-3, y);
     writeExrAtomic(image, output);
 
     const ExrImage back = readExr(output);
     ASSERT_EQ(back.parts.at(0).channels.size(), 3u);
-    for (std::size_t c = 0; c < 3; ++c) {
-        EXPECT_EQ(back.parts[0].channels[c].bytes, image.parts[0].channels[c].bytes) << image.parts[0].channels[c].name;
+    for (const ExrChannel& written : image.parts[0].channels) {
+        EXPECT_EQ(test::channel(back, written.name).bytes, written.bytes) << written.name;
     }
     const auto theirs = test::rawChunks(input)[0], ours = test::rawChunks(output)[0];
     ASSERT_EQ(ours.size(), theirs.size());
-    const int lines = GetParam() == Imf::ZIP_COMPRESSION ? 16 : 1;
+    const int lines = compression() == Imf::ZIP_COMPRESSION ? 16 : 1;
     for (std::size_t k = 0; k < ours.size(); ++k) {
         const int first_line = int(k) * lines;
         const std::size_t raw = std::size_t(std::min(lines, kHeight - first_line)) * kWidth * (2 + 4 + 4);
@@ -88,9 +103,12 @@ TEST_P(ZipEncode, EveryChunkDecodesByOpenExrAndIsNoBiggerThanItsOwn) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(ZipAndZips, ZipEncode, testing::Values(Imf::ZIP_COMPRESSION, Imf::ZIPS_COMPRESSION),
-                         [](const testing::TestParamInfo<Imf::Compression>& param) {
-                             return param.param == Imf::ZIP_COMPRESSION ? std::string("zip") : std::string("zips");
+INSTANTIATE_TEST_SUITE_P(ZipAndZips, ZipEncode,
+                         testing::Combine(testing::Values(Imf::ZIP_COMPRESSION, Imf::ZIPS_COMPRESSION),
+                                          testing::Values(0, 3)),
+                         [](const testing::TestParamInfo<Variant>& param) {
+                             return std::string(std::get<0>(param.param) == Imf::ZIP_COMPRESSION ? "zip" : "zips") +
+                                    "_threads" + std::to_string(std::get<1>(param.param));
                          });
 
 TEST(ZipEncodeScope, OtherCodecsTilesAndSubsampledChannelsStayWithOpenExr) {

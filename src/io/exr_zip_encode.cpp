@@ -9,6 +9,7 @@
 #include <libdeflate.h>
 
 #include <atomic>
+#include <bit>
 #include <cstring>
 #include <memory>
 
@@ -26,10 +27,14 @@ struct CompressorDeleter {
     void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
 };
 
-// One compressor per thread: allocating one costs more than deflating a small chunk.
+// The samples are copied as they lie in memory, and EXR stores them little-endian.
+static_assert(std::endian::native == std::endian::little, "exr_zip_encode.cpp lays out samples little-endian");
+
+// One compressor per thread: allocating one costs more than deflating a small chunk. Null when it
+// cannot be allocated (tried again on the next chunk).
 libdeflate_compressor* threadCompressor() {
-    thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressor(
-        libdeflate_alloc_compressor(kDeflateLevel));
+    thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressor;
+    if (!compressor) compressor.reset(libdeflate_alloc_compressor(kDeflateLevel));
     return compressor.get();
 }
 
