@@ -471,6 +471,29 @@ TEST(BatchFirstFailure, ResumedRunStopsAtTheFailureWithSkippedFramesCounted) {
 
 // Encoded frames hold their temporaries until their turn to be renamed: however deep the queues
 // and many the workers, the frames in flight never hold more than the registry keeps.
+// A library caller stops the batch by throwing from its progress callback. The observer here
+// takes its time before throwing on frame 1, so that an unbounded writer would commit every later
+// frame meanwhile: at most frame 2 may be written after it, whatever the timing.
+TEST(BatchObserver, AnExceptionFromTheObserverLeavesAtMostTheNextFrameWritten) {
+    SmallSequence s(6);
+    struct Stopper : BatchObserver {
+        void frameFinished(const FrameResult&, const BatchProgress&) override {
+            std::this_thread::sleep_for(std::chrono::milliseconds(500));
+            throw std::runtime_error("stop");
+        }
+    } stopper;
+    BatchRequest request;
+    request.input = s.input;
+    request.output = s.output;
+    request.scene = s.scene;
+    request.device = "cpu";
+    request.shard_from_environment = false;
+    EXPECT_THROW(runBatch(request, &stopper), std::runtime_error);
+    EXPECT_TRUE(fs::exists(s.out(1)));
+    for (int f = 3; f <= 6; ++f) EXPECT_FALSE(fs::exists(s.out(f))) << "frame " << f;
+    EXPECT_EQ(temporariesUnder(fs::path(s.output).parent_path()), std::set<std::string>{});
+}
+
 TEST(BatchFramesInFlight, BoundedByTheTemporariesTheyMayHold) {
     BatchRequest request;
     EXPECT_EQ(batch::framesInFlight(request, 2), 2 * 2 + 2 + 1);  // the defaults: queues and workers

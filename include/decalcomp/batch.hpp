@@ -126,9 +126,12 @@ public:
 // plan order. Without keep_going every input of the range must exist before anything starts
 // (else Error(Input), nothing written), and the first failing frame stops the batch: every frame
 // before it is written, none after it, and the observer's finished() sees the counts before its
-// Error is thrown. With keep_going the report lists the failures. Stale temporaries of this
-// shard's outputs (left by a killed run) are removed first; every output is written to a
-// temporary and renamed, so no partial file is left. Set-up errors throw.
+// Error is thrown. An exception from the observer stops the batch too, and is rethrown: a frame
+// is committed only once the observer has returned for every frame before the previous one, so at
+// most the frame after the one being reported is written. With keep_going the report lists the
+// failures. Stale temporaries of this shard's outputs (left by a killed run) are removed first;
+// every output is written to a temporary and renamed, so no partial file is left. Set-up errors
+// throw.
 BatchReport runBatch(const BatchRequest& request, BatchObserver* observer = nullptr);
 
 }  // namespace decalcomp

@@ -129,6 +129,38 @@ FrameResult failure(int frame, const std::string& output, const std::exception_p
 
 // At most `limit` frames between the reader taking one and the writer finishing it: frames that
 // wait for an earlier one to be written first stay bounded, and so does memory.
+// How far the writer may run ahead of the observer: it commits the frame at plan position i only
+// once the observer has returned for the frames before i - 1. An observer that throws (a library
+// caller stopping the batch from its progress callback) then leaves at most the frame after the
+// one it was told of written, whatever the timing. The observer runs on the caller's thread and
+// returns at once in the CLI, so the writer does not wait on it in practice.
+class ObserverLag {
+public:
+    bool waitToCommit(std::size_t position) {  // false once cancelled
+        std::unique_lock lock(mutex_);
+        returned_.wait(lock, [&] { return cancelled_ || observed_ + 1 >= position; });
+        return !cancelled_;
+    }
+
+    void observed() {
+        std::lock_guard lock(mutex_);
+        ++observed_;
+        returned_.notify_all();
+    }
+
+    void cancel() {
+        std::lock_guard lock(mutex_);
+        cancelled_ = true;
+        returned_.notify_all();
+    }
+
+private:
+    std::mutex mutex_;
+    std::condition_variable returned_;
+    std::size_t observed_ = 0;  // frames the observer has returned for
+    bool cancelled_ = false;
+};
+
 class InFlightLimit {
 public:
     explicit InFlightLimit(int limit) : free_(std::max(limit, 1)) {}
@@ -289,6 +321,7 @@ private:
     BoundedQueue<Job> to_composite_, to_write_;
     BoundedQueue<FrameResult> results_{std::size_t(-1) / 2};
     InFlightLimit in_flight_;
+    ObserverLag observer_lag_;
     std::atomic<int> producers_{0};  // of to_write_: the reader and the workers
     SequenceConventions sequence_;  // depth and normal readings settled once for the sequence
     WarningSet warnings_;
@@ -303,6 +336,7 @@ private:
         to_composite_.cancel();
         to_write_.cancel();
         in_flight_.cancel();
+        observer_lag_.cancel();
     }
     void producerDone() {
         if (--producers_ == 0) to_write_.close();
@@ -412,6 +446,15 @@ void Pipeline::writeFrames() {
         while (!stopped) {
             std::optional<Job> job = in_order.next();
             if (!job) break;
+            bool may_commit = false;
+            {
+                StageTimer t{timings.write_idle_s};
+                may_commit = observer_lag_.waitToCommit(job->index);
+            }
+            if (!may_commit) {  // the batch was cancelled: the frame is dropped unwritten
+                stopped = true;
+                break;
+            }
             const FrameResult result = job->finished ? *job->finished : writeFrame(*job);
             if (result.status == FrameStatus::Written && job->thumbnail) sheet_.add(job->index, std::move(*job->thumbnail));
             job.reset();  // the frame's planes go before the next one is taken
@@ -456,6 +499,7 @@ std::optional<FrameResult> Pipeline::run(BatchReport& report, BatchObserver& wat
         }
         p.elapsed_s = secondsSince(start);
         watch.frameFinished(*result, p);
+        observer_lag_.observed();
     }
     for (std::thread& t : threads_) t.join();
     p.elapsed_s = secondsSince(start);
