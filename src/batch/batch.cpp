@@ -127,8 +127,6 @@ FrameResult failure(int frame, const std::string& output, const std::exception_p
     return r;
 }
 
-// At most `limit` frames between the reader taking one and the writer finishing it: frames that
-// wait for an earlier one to be written first stay bounded, and so does memory.
 // How far the writer may run ahead of the observer: it commits the frame at plan position i only
 // once the observer has returned for the frames before i - 1. An observer that throws (a library
 // caller stopping the batch from its progress callback) then leaves at most the frame after the
@@ -161,6 +159,8 @@ private:
     bool cancelled_ = false;
 };
 
+// At most `limit` frames between the reader taking one and the writer finishing it: frames that
+// wait for an earlier one to be written first stay bounded, and so does memory.
 class InFlightLimit {
 public:
     explicit InFlightLimit(int limit) : free_(std::max(limit, 1)) {}
