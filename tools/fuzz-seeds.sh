@@ -41,6 +41,7 @@ for f in data/*/gbuffer.exr; do
   at="+$((width / 2 - 8))+$((height / 2 - 8))"
   oiiotool "$f" --cut "16x16$at" -o "$out/exr/${name}_cut.exr"
   oiiotool "$f" --cut "16x16$at" --compression piz -o "$out/exr/${name}_piz.exr"
+  oiiotool "$f" --cut "16x16$at" --compression zips -o "$out/exr/${name}_zips.exr"
   oiiotool "$f" --cut "16x16$at" --compression rle --tile 8 8 -o "$out/exr/${name}_tiled_rle.exr"
   oiiotool "$f" --cut "16x16$at" -d half --compression dwaa -o "$out/exr/${name}_half_dwaa.exr"
   oiiotool "$f" --crop "16x16$at" --compression none -o "$out/exr/${name}_crop_raw.exr"

@@ -25,11 +25,12 @@ CoreContext::CoreContext(const std::string& path, Mode mode, const std::string& 
     : path_(name.empty() ? path : name), mode_(mode) {
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = &CoreContext::remember;  // instead of OpenEXR's own stderr lines
+    if (mode == Mode::ReadAsStored) init.flags |= EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
     last_message.clear();
-    const exr_result_t result = mode == Mode::Read
-                                    ? exr_start_read(&context_, path.c_str(), &init)
-                                    : exr_start_write(&context_, path.c_str(), EXR_WRITE_FILE_DIRECTLY, &init);
-    if (result == EXR_ERR_SUCCESS && mode == Mode::Read && !last_message.empty()) {
+    const bool reading = mode != Mode::Write;
+    const exr_result_t result = reading ? exr_start_read(&context_, path.c_str(), &init)
+                                        : exr_start_write(&context_, path.c_str(), EXR_WRITE_FILE_DIRECTLY, &init);
+    if (result == EXR_ERR_SUCCESS && reading && !last_message.empty()) {
         // The core reader skipped something it objected to (a duplicated attribute, say) where
         // OpenEXR's C++ reader takes the last copy: the two would read different files, and every
         // size check made here would be about the wrong one (found by fuzzing).
@@ -37,9 +38,8 @@ CoreContext::CoreContext(const std::string& path, Mode mode, const std::string& 
         throw inputError(fmt::format("{}: header: {}; the header is corrupt", path_, reason(result)));
     }
     if (result == EXR_ERR_SUCCESS) return;
-    const std::string text =
-        fmt::format("{}: cannot {}: {}", path_, mode == Mode::Read ? "read" : "write", reason(result));
-    if (mode == Mode::Read) throw inputError(text);
+    const std::string text = fmt::format("{}: cannot {}: {}", path_, reading ? "read" : "write", reason(result));
+    if (reading) throw inputError(text);
     throw outputError(text);
 }
 
@@ -81,7 +81,7 @@ std::string CoreContext::reason(exr_result_t result) const {
 void CoreContext::require(exr_result_t result, int part, const std::string& field) const {
     if (result == EXR_ERR_SUCCESS) return;
     const std::string text = fmt::format("{}: part {}: {}: {}", path_, part, field, reason(result));
-    if (mode_ == Mode::Read) throw inputError(text);
+    if (mode_ != Mode::Write) throw inputError(text);
     throw outputError(text);
 }
 
@@ -90,7 +90,7 @@ void CoreContext::finish() {
     context_ = nullptr;
     if (result != EXR_ERR_SUCCESS) {
         const std::string text = fmt::format("{}: cannot finish: {}", path_, reason(result));
-        if (mode_ == Mode::Read) throw inputError(text);
+        if (mode_ != Mode::Write) throw inputError(text);
         throw outputError(text);
     }
 }

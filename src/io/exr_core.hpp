@@ -10,9 +10,12 @@ namespace decalcomp::io {
 
 class CoreContext {
 public:
-    enum class Mode { Read, Write };
-    // Read: Error(Input) naming `path` when OpenEXR cannot parse it. Write: creates (replaces)
-    // `path`, Error(Output) on failure. Messages name `name` (default: `path`).
+    // ReadAsStored reads as Read does, but takes the chunk table as the file stores it: where its
+    // offsets are invalid, OpenEXR's core otherwise rebuilds the table by scanning the file, while
+    // its C++ reader refuses the file, and a decoder should not read pixels from a guessed table.
+    enum class Mode { Read, ReadAsStored, Write };
+    // Read, ReadAsStored: Error(Input) naming `path` when OpenEXR cannot parse it. Write: creates
+    // (replaces) `path`, Error(Output) on failure. Messages name `name` (default: `path`).
     CoreContext(const std::string& path, Mode mode, const std::string& name = {});
     // Reads a file held in memory (`bytes` must outlive the context); `name` names it in messages.
     CoreContext(const std::string& name, const std::string& bytes);

@@ -1,4 +1,6 @@
 // readExr / writeExrAtomic: whole EXR files in memory, raw samples, headers untouched.
+#include "decalcomp/exr_file.hpp"
+
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfInputPart.h>
 #include <OpenEXR/ImfMultiPartInputFile.h>
@@ -19,13 +21,13 @@
 #include <fstream>
 
 #include "decalcomp/error.hpp"
-#include "decalcomp/exr_file.hpp"
 #include "decalcomp/input_file.hpp"
 #include "decalcomp/memory_limit.hpp"
 #include "decalcomp/temporary_files.hpp"
 #include "io/exr_chunk_copy.hpp"
 #include "io/exr_layout.hpp"
 #include "io/exr_plausibility.hpp"
+#include "io/exr_zip_decode.hpp"
 
 namespace decalcomp {
 
@@ -105,6 +107,14 @@ ExrPart readPart(Imf::MultiPartInputFile& file, int index, const std::string& pa
     for (const ExrChannel& channel : part.channels)
         frame_buffer.insert(channel.name, io::channelSlice(dw, channel));
     part.chunks = chunkLayoutOf(header);
+    if (!region.everything) {
+        for (const Imath::Box2i& box : region.boxes) part.chunks.chunksIn(box, part.decoded);
+        part.decoded.resize(std::size_t(part.chunks.count()), 0);
+    }
+    if (io::canDecodeZip(part)) {  // the common case, at libdeflate's speed
+        io::decodeZipChunks(path, index, part);
+        return part;
+    }
     if (region.everything) {
         // InputPart reads tiled parts too, presenting level 0 as scanlines.
         Imf::InputPart input(file, index);
@@ -112,8 +122,6 @@ ExrPart readPart(Imf::MultiPartInputFile& file, int index, const std::string& pa
         input.readPixels(dw.min.y, dw.max.y);
         return part;
     }
-    for (const Imath::Box2i& box : region.boxes) part.chunks.chunksIn(box, part.decoded);
-    part.decoded.resize(std::size_t(part.chunks.count()), 0);
     readChunks(file, index, part, frame_buffer);
     return part;
 }

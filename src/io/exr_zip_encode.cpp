@@ -3,8 +3,6 @@
 #include "io/exr_zip_encode.hpp"
 
 #include <OpenEXR/IlmThreadPool.h>
-#include <OpenEXR/ImfChannelList.h>
-#include <OpenEXR/ImfCompression.h>
 #include <fmt/format.h>
 #include <libdeflate.h>
 
@@ -19,6 +17,7 @@
 
 #include "decalcomp/error.hpp"
 #include "io/exr_layout.hpp"
+#include "io/exr_zip_layout.hpp"
 
 namespace decalcomp::io {
 
@@ -40,32 +39,6 @@ libdeflate_compressor* threadCompressor() {
     thread_local std::unique_ptr<libdeflate_compressor, CompressorDeleter> compressor;
     if (!compressor) compressor.reset(libdeflate_alloc_compressor(kDeflateLevel));
     return compressor.get();
-}
-
-// The channels in the order the header lists them (the order of the samples in a chunk).
-std::vector<const ExrChannel*> channelsInHeaderOrder(const ExrPart& part) {
-    std::vector<const ExrChannel*> ordered;
-    for (auto it = part.header.channels().begin(); it != part.header.channels().end(); ++it) {
-        const ExrChannel* found = nullptr;
-        for (const ExrChannel& channel : part.channels)
-            if (channel.name == it.name()) found = &channel;
-        ordered.push_back(found);
-    }
-    return ordered;
-}
-
-// The rows of chunk `box` (per line, each channel's samples in `channels` order) as one run of
-// bytes, through `each(row, bytes)`. Rows hold whole samples of 2 or 4 bytes, so every row starts
-// at an even offset of the run.
-template <typename Each>
-void forEachRow(const ExrPart& part, const std::vector<const ExrChannel*>& channels, const Imath::Box2i& box,
-                Each&& each) {
-    const int y0 = part.header.dataWindow().min.y;
-    for (int y = box.min.y; y <= box.max.y; ++y)
-        for (const ExrChannel* channel : channels) {
-            const std::size_t row_bytes = sampleSize(channel->type) * std::size_t(part.width);
-            each(channel->bytes.data() + std::size_t(y - y0) * row_bytes, row_bytes);
-        }
 }
 
 // ZIP's predictor in one pass over a row of `bytes` (even): its even bytes to `even`, its odd ones
@@ -110,15 +83,14 @@ void splitAndDelta(const unsigned char* row, std::size_t bytes, unsigned char* e
 std::string encodeChunk(const ExrPart& part, const std::vector<const ExrChannel*>& channels, int chunk) {
     thread_local std::vector<unsigned char> predicted, packed;
     const Imath::Box2i box = part.chunks.box(chunk);
-    std::size_t total = 0;
-    forEachRow(part, channels, box, [&](const unsigned char*, std::size_t bytes) { total += bytes; });
+    const std::size_t total = zipChunkBytes(part, channels, box);
     predicted.resize(total);
     // The even half's first byte has no predecessor and is stored as it is (prev 128 leaves it);
     // the odd half's first byte follows the even half's last, fixed up below.
     unsigned char* even = predicted.data();
     unsigned char* odd = predicted.data() + total / 2;
     unsigned char prev_even = 128, prev_odd = 0;
-    forEachRow(part, channels, box, [&](const unsigned char* row, std::size_t bytes) {
+    forEachZipRow(part, channels, box, [&](const unsigned char* row, std::size_t bytes) {
         splitAndDelta(row, bytes, even, odd, prev_even, prev_odd);
         even += bytes / 2;
         odd += bytes / 2;
@@ -132,7 +104,7 @@ std::string encodeChunk(const ExrPart& part, const std::vector<const ExrChannel*
     std::string stored;
     if (size == 0 || size >= total) {  // a reader takes a chunk no smaller than its samples as stored raw
         stored.reserve(total);
-        forEachRow(part, channels, box, [&](const unsigned char* row, std::size_t bytes) {
+        forEachZipRow(part, channels, box, [&](const unsigned char* row, std::size_t bytes) {
             stored.append(reinterpret_cast<const char*>(row), bytes);
         });
         return stored;
@@ -163,17 +135,10 @@ private:
 
 }  // namespace
 
-bool canEncodeZip(const ExrPart& part) {
-    const Imf::Compression compression = part.header.compression();
-    if (part.chunks.tiled || (compression != Imf::ZIP_COMPRESSION && compression != Imf::ZIPS_COMPRESSION))
-        return false;
-    for (const ExrChannel* channel : channelsInHeaderOrder(part))
-        if (!channel || channel->x_sampling != 1 || channel->y_sampling != 1) return false;
-    return true;
-}
+bool canEncodeZip(const ExrPart& part) { return !zipChannels(part).empty(); }
 
 std::vector<std::string> encodeZipChunks(const ExrPart& part, int first, int last, const std::string& path) {
-    const std::vector<const ExrChannel*> channels = channelsInHeaderOrder(part);
+    const std::vector<const ExrChannel*> channels = zipChannels(part);
     std::vector<std::string> chunks(std::size_t(last - first + 1));
     std::atomic<bool> failed{false};
     {

@@ -1,0 +1,249 @@
+// ZIP and ZIPS chunks through libdeflate. Deflated (src/io/exr_zip_encode.cpp): OpenEXR's reader
+// gives back every sample of every pixel type, a chunk that would not shrink is stored raw exactly
+// as OpenEXR stores it, the others are no bigger than OpenEXR's own, and parts the encoder cannot
+// lay out stay with OpenEXR's writer. Inflated (src/io/exr_zip_decode.cpp): every sample OpenEXR
+// wrote comes back, raw chunks included, a region reads only its chunks, and a corrupt chunk is
+// refused naming the file, the part and the chunk's first line.
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfCompression.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfThreading.h>
+#include <OpenEXR/openexr.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "decalcomp/exr_file.hpp"
+#include "io/exr_layout.hpp"
+#include "io/exr_zip_decode.hpp"
+#include "io/exr_zip_encode.hpp"
+#include "support/exr_test_io.hpp"
+#include "support/test_support.hpp"
+
+namespace decalcomp {
+namespace {
+
+constexpr int kWidth = 37, kHeight = 40;  // ZIP: chunks of 16, 16 and 8 lines
+constexpr int kNoiseLines = 16;           // the first lines hold random bytes: they do not shrink
+
+// A half, a float and a uint channel (bytes per pixel: 2 + 4 + 4) over kWidth x kHeight: random
+// bytes on the first kNoiseLines lines, then a constant, then a ramp.
+ExrImage threeTypeImage(Imf::Compression compression) {
+    ExrImage image;
+    ExrPart& part = image.parts.emplace_back();
+    // a data window away from the origin, as crops and overscan have
+    const Imath::V2i origin(-3, 5);
+    const Imath::Box2i window(origin, origin + Imath::V2i(kWidth - 1, kHeight - 1));
+    part.header = Imf::Header(window, window);
+    part.header.compression() = compression;
+    part.width = kWidth, part.height = kHeight;
+    std::mt19937 random(7);
+    for (auto [name, type] : {std::pair{"A", SampleType::Half}, {"B", SampleType::Float}, {"C", SampleType::Uint}}) {
+        ExrChannel channel;
+        channel.name = channel.qualified = name;
+        channel.type = type;
+        const std::size_t size = io::sampleSize(type), row = size * kWidth;
+        channel.bytes.resize(row * kHeight);
+        for (int y = 0; y < kHeight; ++y)
+            for (std::size_t b = 0; b < row; ++b)
+                channel.bytes[std::size_t(y) * row + b] =
+                    y < kNoiseLines ? static_cast<unsigned char>(random())
+                    : y < 32        ? 0x3c
+                                    : static_cast<unsigned char>((b / size + std::size_t(y)) % 7);
+        part.header.channels().insert(name, Imf::Channel(io::pixelType(type)));
+        part.channels.push_back(std::move(channel));
+    }
+    return image;
+}
+
+// The compression, and the threads of OpenEXR's pool (0: the chunks are deflated on the caller).
+using Variant = std::tuple<Imf::Compression, int>;
+
+std::string variantName(const testing::TestParamInfo<Variant>& param) {
+    return std::string(std::get<0>(param.param) == Imf::ZIP_COMPRESSION ? "zip" : "zips") + "_threads" +
+           std::to_string(std::get<1>(param.param));
+}
+
+class ZipEncode : public testing::TestWithParam<Variant> {
+protected:
+    void SetUp() override { Imf::setGlobalThreadCount(std::get<1>(GetParam())); }
+    void TearDown() override { Imf::setGlobalThreadCount(0); }
+    Imf::Compression compression() const { return std::get<0>(GetParam()); }
+    test::ScratchDir dir;
+};
+
+// The input is written whole by OpenEXR; every chunk is then marked changed and written again
+// through the chunk writer, so each is deflated here. The part's channels are held in the reverse
+// of the header's order: a chunk lays them out in the header's.
+TEST_P(ZipEncode, EveryChunkDecodesByOpenExrAndIsNoBiggerThanItsOwn) {
+    const std::string input = dir.file("in.exr"), output = dir.file("out.exr");
+    test::writeWithCompression(threeTypeImage(compression()), compression(), false, input);
+    ExrImage image = readExr(input);
+    ASSERT_TRUE(io::canEncodeZip(image.parts.at(0)));
+    std::reverse(image.parts[0].channels.begin(), image.parts[0].channels.end());
+    image.copy_unchanged_chunks = true;
+    const int y0 = image.parts[0].header.dataWindow().min.y;
+    for (int y = y0; y < y0 + kHeight; ++y) image.parts[0].markChanged(-3, y);
+    writeExrAtomic(image, output);
+
+    const ExrImage back = readExr(output);
+    ASSERT_EQ(back.parts.at(0).channels.size(), 3u);
+    for (const ExrChannel& written : image.parts[0].channels) {
+        EXPECT_EQ(test::channel(back, written.name).bytes, written.bytes) << written.name;
+    }
+    const auto theirs = test::rawChunks(input)[0], ours = test::rawChunks(output)[0];
+    ASSERT_EQ(ours.size(), theirs.size());
+    const int lines = compression() == Imf::ZIP_COMPRESSION ? 16 : 1;
+    for (std::size_t k = 0; k < ours.size(); ++k) {
+        const int first_line = int(k) * lines;
+        const std::size_t raw = std::size_t(std::min(lines, kHeight - first_line)) * kWidth * (2 + 4 + 4);
+        if (first_line < kNoiseLines) {  // random bytes: stored raw, as OpenEXR stores them
+            EXPECT_EQ(ours[k].size(), raw) << "chunk " << k;
+            EXPECT_EQ(ours[k], theirs[k]) << "chunk " << k;
+        } else {
+            EXPECT_LT(ours[k].size(), raw) << "chunk " << k;
+            EXPECT_LE(ours[k].size(), theirs[k].size() + theirs[k].size() / 20 + 16) << "chunk " << k;
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(ZipAndZips, ZipEncode,
+                         testing::Combine(testing::Values(Imf::ZIP_COMPRESSION, Imf::ZIPS_COMPRESSION),
+                                          testing::Values(0, 3)),
+                         variantName);
+
+
+std::string fileBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void writeFileBytes(const std::string& path, const std::string& bytes) {
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+// Where the chunk starting at `first_line` of the file's first part lies: its stored bytes' offset and size.
+exr_chunk_info_t chunkInfo(const std::string& path, int first_line) {
+    exr_context_t context = nullptr;
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    EXPECT_EQ(exr_start_read(&context, path.c_str(), &init), EXR_ERR_SUCCESS) << path;
+    exr_chunk_info_t info{};
+    EXPECT_EQ(exr_read_scanline_chunk_info(context, 0, first_line, &info), EXR_ERR_SUCCESS);
+    exr_finish(&context);
+    return info;
+}
+
+class ZipDecode : public ZipEncode {};
+
+// Written by OpenEXR (zlib, its own predictor), read by ours: the noise lines' chunk is stored
+// raw, the others deflated; the channels differ in type and the data window is off the origin.
+TEST_P(ZipDecode, EverySampleOpenExrWroteComesBack) {
+    const ExrImage written = threeTypeImage(compression());
+    const std::string path = dir.file("in.exr");
+    test::writeWithCompression(written, compression(), false, path);
+    const ExrImage read = readExr(path);
+    ASSERT_TRUE(io::canDecodeZip(read.parts.at(0)));
+    for (const ExrChannel& channel : written.parts[0].channels)
+        EXPECT_EQ(test::channel(read, channel.name).bytes, channel.bytes) << channel.name;
+}
+
+// Only the chunks a region overlaps are decoded; the others keep zero samples.
+TEST_P(ZipDecode, ARegionReadsOnlyItsChunks) {
+    const ExrImage written = threeTypeImage(compression());
+    const std::string path = dir.file("in.exr");
+    test::writeWithCompression(written, compression(), false, path);
+    const int y0 = written.parts[0].header.dataWindow().min.y, x0 = written.parts[0].header.dataWindow().min.x;
+    const int line = y0 + 20;  // the second ZIP chunk, lines y0+16 to y0+31
+    ExrReadRegion region;
+    region.everything = false;
+    region.boxes.push_back(Imath::Box2i(Imath::V2i(x0 + 2, line), Imath::V2i(x0 + 4, line)));
+    const ExrImage read = readExr(path, region);
+    const ExrPart& part = read.parts.at(0);
+    const int lines = compression() == Imf::ZIP_COMPRESSION ? 16 : 1;
+    for (int y = 0; y < kHeight; ++y)
+        EXPECT_EQ(part.isDecodedAt(x0, y0 + y), y / lines == (line - y0) / lines) << "line " << y;
+    for (const ExrChannel& channel : written.parts[0].channels) {
+        const ExrChannel& got = test::channel(read, channel.name);
+        const std::size_t row = got.bytes.size() / kHeight;
+        for (int y = 0; y < kHeight; ++y) {
+            const auto begin = std::ptrdiff_t(row) * y, end = begin + std::ptrdiff_t(row);
+            const bool decoded = part.isDecodedAt(x0, y0 + y);
+            for (auto i = begin; i < end; ++i)
+                ASSERT_EQ(got.bytes[std::size_t(i)], decoded ? channel.bytes[std::size_t(i)] : 0)
+                    << channel.name << " line " << y;
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(ZipAndZips, ZipDecode,
+                         testing::Combine(testing::Values(Imf::ZIP_COMPRESSION, Imf::ZIPS_COMPRESSION),
+                                          testing::Values(0, 3)),
+                         variantName);
+
+// A deflated chunk with bytes flipped inside its data, and one whose stored size claims more than
+// its samples: each is refused with the file, the part and the chunk's first line.
+TEST(ZipDecodeErrors, ACorruptChunkIsRefusedNamingTheFileAndTheChunk) {
+    test::ScratchDir dir;
+    const ExrImage written = threeTypeImage(Imf::ZIP_COMPRESSION);
+    const std::string path = dir.file("in.exr");
+    test::writeWithCompression(written, Imf::ZIP_COMPRESSION, false, path);
+    const int second_chunk = written.parts[0].header.dataWindow().min.y + 16;  // deflated (not noise)
+    const exr_chunk_info_t info = chunkInfo(path, second_chunk);
+    ASSERT_LT(info.packed_size, info.unpacked_size);
+    const std::string original = fileBytes(path);
+
+    std::string flipped = original;
+    for (std::size_t i = 2; i < std::size_t(info.packed_size); ++i)
+        flipped[std::size_t(info.data_offset) + i] = char(~flipped[std::size_t(info.data_offset) + i]);
+    writeFileBytes(path, flipped);
+    const std::string message = test::errorMessage(ErrorKind::Input, [&] { (void)readExr(path); });
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find("chunk at line " + std::to_string(second_chunk)), std::string::npos) << message;
+
+    std::string oversized = original;  // the chunk's size field precedes its data
+    const std::uint32_t claimed = std::uint32_t(info.unpacked_size) + 4;
+    std::memcpy(oversized.data() + info.data_offset - 4, &claimed, 4);
+    writeFileBytes(path, oversized);
+    const std::string refused = test::errorMessage(ErrorKind::Input, [&] { (void)readExr(path); });
+    EXPECT_NE(refused.find(path), std::string::npos) << refused;
+    EXPECT_NE(refused.find(std::to_string(second_chunk)), std::string::npos) << refused;
+}
+
+// Both directions take the same parts; everything else stays with OpenEXR's codecs.
+TEST(ZipScope, OtherCodecsTilesAndSubsampledChannelsStayWithOpenExr) {
+    const auto ours = [](const ExrImage& image) {
+        const bool encoded = io::canEncodeZip(image.parts[0]), decoded = io::canDecodeZip(image.parts[0]);
+        EXPECT_EQ(encoded, decoded);
+        return encoded && decoded;
+    };
+    const ExrImage zip = threeTypeImage(Imf::ZIP_COMPRESSION);
+    EXPECT_TRUE(ours(zip));
+    EXPECT_TRUE(ours(threeTypeImage(Imf::ZIPS_COMPRESSION)));
+    EXPECT_FALSE(ours(threeTypeImage(Imf::PIZ_COMPRESSION)));
+
+    ExrImage tiled = zip;
+    tiled.parts[0].chunks.tiled = true;
+    EXPECT_FALSE(ours(tiled));
+
+    ExrImage subsampled = zip;
+    subsampled.parts[0].channels[1].x_sampling = 2;
+    EXPECT_FALSE(ours(subsampled));
+    subsampled.parts[0].channels[1].x_sampling = 1;
+    subsampled.parts[0].channels[2].y_sampling = 2;
+    EXPECT_FALSE(ours(subsampled));
+
+    ExrImage missing = zip;  // a header channel the part does not hold
+    missing.parts[0].channels.pop_back();
+    EXPECT_FALSE(ours(missing));
+}
+
+}  // namespace
+}  // namespace decalcomp
