@@ -103,9 +103,6 @@ ExrPart readPart(Imf::MultiPartInputFile& file, int index, const std::string& pa
         part.channels.push_back(std::move(channel));
     }
 
-    Imf::FrameBuffer frame_buffer;
-    for (const ExrChannel& channel : part.channels)
-        frame_buffer.insert(channel.name, io::channelSlice(dw, channel));
     part.chunks = chunkLayoutOf(header);
     if (!region.everything) {
         for (const Imath::Box2i& box : region.boxes) part.chunks.chunksIn(box, part.decoded);
@@ -115,6 +112,10 @@ ExrPart readPart(Imf::MultiPartInputFile& file, int index, const std::string& pa
         io::decodeZipChunks(path, index, part);
         return part;
     }
+    // OpenEXR's reader for everything else: it decodes into slices over the channels' samples.
+    Imf::FrameBuffer frame_buffer;
+    for (const ExrChannel& channel : part.channels)
+        frame_buffer.insert(channel.name, io::channelSlice(dw, channel));
     if (region.everything) {
         // InputPart reads tiled parts too, presenting level 0 as scanlines.
         Imf::InputPart input(file, index);
