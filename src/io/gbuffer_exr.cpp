@@ -1,16 +1,19 @@
 // extractGBuffer / storeAttribute: mapped EXR channels (one file or several, any data windows)
 // <-> float attribute planes over one G-buffer window.
+#include "decalcomp/gbuffer_exr.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 
 #include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_file.hpp"
-#include "decalcomp/gbuffer_exr.hpp"
 #include "io/exr_layout.hpp"
 
 namespace decalcomp {
@@ -114,9 +117,35 @@ void forEachOverlapRun(const Imath::Box2i& window, const ExrPart& part, Visit vi
         }
 }
 
-// Samples [first, first + count) of `channel` as floats into out[0], out[stride], ...
+// The plane's components whose channels lie in one part: they share its data window and its
+// decoded chunks, so they are copied in one pass over the part's rows.
+struct PartComponents {
+    const ExrPart* part = nullptr;
+    std::vector<int> components;  // into the plane (and the refs)
+};
+
+std::vector<PartComponents> groupByPart(const std::vector<const ExrPart*>& parts) {
+    std::vector<PartComponents> groups;
+    for (int c = 0; c < int(parts.size()); ++c) {
+        auto same =
+            std::find_if(groups.begin(), groups.end(), [&](const PartComponents& g) { return g.part == parts[c]; });
+        if (same == groups.end()) same = groups.insert(groups.end(), PartComponents{parts[c], {}});
+        same->components.push_back(c);
+    }
+    return groups;
+}
+
+// `count` FLOAT samples of each channel into a plane of N components, channel k to component k:
+// one pass over the output (the common case: every component of an attribute in one part).
+template <int N>
+void interleaveFloats(const std::array<const unsigned char*, 4>& from, std::size_t count, float* out) {
+    for (std::size_t k = 0; k < count; ++k)
+        for (int c = 0; c < N; ++c) std::memcpy(out + k * N + c, from[c] + k * sizeof(float), sizeof(float));
+}
+
+// One component's samples [first, first + count) of `channel` as floats into out[0], out[stride], ...
 void readRun(const ExrChannel& channel, std::size_t first, std::size_t count, float* out, std::size_t stride) {
-    if (channel.type == SampleType::Float) {  // most G-buffers: no conversion
+    if (channel.type == SampleType::Float) {
         const unsigned char* p = channel.bytes.data() + first * sizeof(float);
         for (std::size_t k = 0; k < count; ++k) std::memcpy(out + k * stride, p + k * sizeof(float), sizeof(float));
         return;
@@ -130,14 +159,40 @@ Plane readOnWindow(const Files& files, const std::vector<ChannelRef>& refs, cons
     const std::size_t height = std::size_t(window.max.y - window.min.y + 1);
     Plane plane;
     plane.components = int(refs.size());
+    std::vector<const ExrPart*> parts;
+    std::vector<const ExrChannel*> channels;
+    for (const ChannelRef& ref : refs) {
+        checkChannel(files, ref, allow_uint, label);
+        channels.push_back(&channelAt(files, ref, label));
+        parts.push_back(&files[ref.file]->parts[ref.part]);
+    }
+    // Pixels in chunks that were not decoded keep `fill`: background, which no decal changes.
     plane.samples.assign(width * height * refs.size(), fill);
-    for (int c = 0; c < plane.components; ++c) {
-        checkChannel(files, refs[c], allow_uint, label);
-        const ExrChannel& channel = channelAt(files, refs[c], label);
-        // Pixels in chunks that were not decoded keep `fill`: background, which no decal changes.
-        const ExrPart& part = files[refs[c].file]->parts[refs[c].part];
-        forEachOverlapRun(window, part, [&](std::size_t frame, std::size_t sample, int, int, int count) {
-            readRun(channel, sample, std::size_t(count), &plane.at(frame, c), std::size_t(plane.components));
+    const std::size_t stride = refs.size();
+    for (const PartComponents& group : groupByPart(parts)) {
+        const std::vector<int>& cs = group.components;
+        // (cs holds ascending components: all of them when it holds as many)
+        const bool whole_float = int(cs.size()) == plane.components && plane.components <= 4 &&
+                                 std::all_of(cs.begin(), cs.end(), [&](int c) {
+                                     return channels[std::size_t(c)]->type == SampleType::Float;
+                                 });
+        forEachOverlapRun(window, *group.part, [&](std::size_t frame, std::size_t sample, int, int, int count) {
+            float* out = plane.samples.data() + frame * stride;
+            const std::size_t n = std::size_t(count);
+            if (!whole_float) {
+                for (int c : cs) readRun(*channels[std::size_t(c)], sample, n, out + c, stride);
+                return;
+            }
+            std::array<const unsigned char*, 4> from{};
+            for (int c : cs) from[std::size_t(c)] = channels[std::size_t(c)]->bytes.data() + sample * sizeof(float);
+            if (plane.components == 1)
+                std::memcpy(out, from[0], n * sizeof(float));
+            else if (plane.components == 2)
+                interleaveFloats<2>(from, n, out);
+            else if (plane.components == 3)
+                interleaveFloats<3>(from, n, out);
+            else
+                interleaveFloats<4>(from, n, out);
         });
     }
     return plane;
@@ -204,12 +259,16 @@ std::size_t store(const std::vector<ExrImage*>& files, const ChannelMapping& map
         forEachOverlapRun(window, part, [&](std::size_t frame, std::size_t sample, int x, int y, int count) {
             std::size_t run_changed = 0;
             if (channel.type == SampleType::Float) {  // most G-buffers: compare and store the bits
+                // (stored whether or not they differ: the same bits, and no branch to mispredict)
                 unsigned char* p = channel.bytes.data() + sample * sizeof(float);
+                const float* from = plane.samples.data() + frame * std::size_t(plane.components) + std::size_t(c);
+                const std::size_t stride = std::size_t(plane.components);
                 for (int k = 0; k < count; ++k, p += sizeof(float)) {
-                    const float value = plane.at(frame + std::size_t(k), c);
-                    if (std::memcmp(p, &value, sizeof value) == 0) continue;
-                    std::memcpy(p, &value, sizeof value);
-                    ++run_changed;
+                    std::uint32_t before, after;
+                    std::memcpy(&before, p, sizeof before);
+                    std::memcpy(&after, from + std::size_t(k) * stride, sizeof after);
+                    run_changed += before != after;
+                    std::memcpy(p, &after, sizeof after);
                 }
             } else {
                 for (int k = 0; k < count; ++k) {
