@@ -2,6 +2,7 @@
 // `decalcomp composite` where one exists: per-pass files per frame (--pass ATTR=PATTERN), folder
 // outputs and --resume with them, -o without a frame token, --add-channels, --preview patterns,
 // the contact sheet of the sequence and frames spread over several devices (--device cpu,cpu).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <functional>
 #include <map>
 #include <set>
+#include <thread>
 
 #include "io/exr_layout.hpp"
 #include "support/batch_fixture.hpp"
@@ -256,9 +258,19 @@ TEST(BatchFeatures, TwoDevicesGiveTheSameBytesAsOne) {
         EXPECT_EQ(test::pixelDifference(readExr(FramePattern(one).path(f)), readExr(FramePattern(two).path(f))), "");
     }
     const std::string name = selectDevice("cpu").name;
-    EXPECT_NE(r1.output.find("batch: 3 frames on " + name + "; cameras: "), std::string::npos) << r1.output;
-    EXPECT_NE(r2.output.find("batch: 3 frames on " + name + ", " + name + "; cameras: "), std::string::npos)
+    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    EXPECT_NE(r1.output.find(fmt::format("batch: 3 frames on {} ({} workers); cameras: ", name,
+                                         defaultCompositeWorkers(threads, 1))),
+              std::string::npos)
+        << r1.output;
+    EXPECT_NE(r2.output.find(fmt::format("batch: 3 frames on {}, {} ({} workers each); cameras: ", name, name,
+                                         defaultCompositeWorkers(threads, 2))),
+              std::string::npos)
         << r2.output;
+    const auto r3 = s.batch(s.dir.file("three/comp.####.exr"), "--device cpu --workers 3");
+    ASSERT_EQ(r3.exit_code, 0) << r3.output;
+    EXPECT_NE(r3.output.find("batch: 3 frames on " + name + " (3 workers); cameras: "), std::string::npos)
+        << r3.output;
 
     for (const std::string bad : {"cpu,", ",cpu", "cpu,,cpu"}) {
         const std::string out = s.dir.file("bad/comp.####.exr");

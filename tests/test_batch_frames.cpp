@@ -176,6 +176,17 @@ TEST(Shards, SlurmOutsideAnArrayOrInconsistent) {
                  Error);
 }
 
+TEST(BatchWorkers, AQuarterOfTheHardwareThreadsSharedAmongTheDevicesFromTwoToEight) {
+    EXPECT_EQ(defaultCompositeWorkers(1, 1), 2);
+    EXPECT_EQ(defaultCompositeWorkers(2, 1), 2);   // the 2-core VM: as before
+    EXPECT_EQ(defaultCompositeWorkers(16, 1), 4);  // the GPU host: the reader stays busy
+    EXPECT_EQ(defaultCompositeWorkers(20, 1), 5);
+    EXPECT_EQ(defaultCompositeWorkers(16, 2), 2);
+    EXPECT_EQ(defaultCompositeWorkers(128, 8), 4);
+    EXPECT_EQ(defaultCompositeWorkers(64, 1), 8);  // each holds a frame: capped
+    EXPECT_EQ(defaultCompositeWorkers(16, 0), 4);  // no device (--io-only): as one
+}
+
 TEST(BatchPlanTest, ExplicitShardWinsOverSlurm) {
     BatchRequest r;
     r.input = "in.####.exr";

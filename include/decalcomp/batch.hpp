@@ -44,7 +44,8 @@ struct BatchRequest {
     ShardMode shard_mode = ShardMode::Interleaved;
     int exr_threads = 0;        // OpenEXR's global decode/encode pool; 0 = hardware threads
     int queue_depth = 2;        // frames waiting between stages (memory bound)
-    int composite_workers = 2;  // compositing threads per device, each with its own Compositor
+    int composite_workers = 0;  // compositing threads per device, each with its own Compositor; 0: by
+                                // the machine (defaultCompositeWorkers)
     bool io_only = false;       // read and write without compositing (I/O cost, for benchmarks)
     bool binned = true;
 };
@@ -98,6 +99,7 @@ struct BatchReport {
     BatchTimings timings;
     ChunkWriteStats chunks;  // summed over the written frames' outputs (FrameReport::chunks_*)
     std::vector<std::string> devices;  // names of the devices used; empty for io_only
+    int workers_per_device = 0;        // compositing (for io_only: encoding) threads per device
     std::string camera_source;  // FrameCameras::describe()
     BatchProgress progress;
     std::vector<FrameResult> failures;  // in frame (plan) order
@@ -107,6 +109,13 @@ struct BatchReport {
     std::vector<std::string> pixel_filter;  // "frames 1-40: blackman-harris:3 (profile blender)"
     std::string contact_sheet;  // the sheet written (BatchRequest::contact_sheet for this shard), or ""
 };
+
+// Compositing threads per device when BatchRequest::composite_workers is 0: a worker prepares,
+// composites and encodes a frame while the reader decodes the next, and takes about four times as
+// long (docs/benchmarks.md), so a quarter of the hardware threads, shared among the devices, keeps
+// the reader busy; at least 2 (one frame's host work overlaps another's kernels), at most 8 (each
+// holds a frame in memory).
+int defaultCompositeWorkers(unsigned hardware_threads, std::size_t devices);
 
 // Called on the thread that called runBatch, in frame (plan) order.
 class BatchObserver {

@@ -129,7 +129,7 @@ def batch(
     shard: Optional[str] = None,
     threads: int = 0,
     queue: int = 2,
-    workers: int = 2,
+    workers: int = 0,
     progress: Optional[Callable[[dict[str, Any]], None]] = None,
     profile: str = "auto",
     profile_files: Sequence[str] = (),

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -516,17 +517,26 @@ BatchTimings Pipeline::timings() const {
     return sum;
 }
 
-// The devices --device selects, with a compositor per worker each.
+unsigned hardwareThreads() { return std::max(1u, std::thread::hardware_concurrency()); }
+
+int workersPerDevice(const BatchRequest& request, std::size_t devices) {
+    return request.composite_workers > 0 ? request.composite_workers
+                                         : defaultCompositeWorkers(hardwareThreads(), std::max<std::size_t>(devices, 1));
+}
+
+// The devices --device selects, with a compositor per worker each (report.workers_per_device).
 std::vector<DeviceWorkers> setUpDevices(const BatchRequest& request, const DecalScene& scene, BatchReport& report,
                                         BatchObserver& watch) {
     const std::chrono::milliseconds notice_after = slowBuildNoticeAfter();
+    std::vector<DeviceInfo> selected = selectDevices(request.device);
+    report.workers_per_device = workersPerDevice(request, selected.size());
     std::vector<DeviceWorkers> devices;
-    for (DeviceInfo& info : selectDevices(request.device)) {
+    for (DeviceInfo& info : selected) {
         DeviceWorkers& d = devices.emplace_back();
         d.device = std::make_unique<ComputeDevice>(std::move(info));
         d.device->setSlowBuildNotice(notice_after, [&watch](const std::string& m) { watch.slowBuild(m); });
         report.devices.push_back(d.device->info().name);
-        for (int w = 0; w < std::max(1, request.composite_workers); ++w) {
+        for (int w = 0; w < report.workers_per_device; ++w) {
             d.compositors.push_back(std::make_unique<Compositor>(*d.device));
             d.compositors.back()->setScene(scene);
         }
@@ -535,6 +545,11 @@ std::vector<DeviceWorkers> setUpDevices(const BatchRequest& request, const Decal
 }
 
 }  // namespace
+
+int defaultCompositeWorkers(unsigned hardware_threads, std::size_t devices) {
+    const std::size_t share = hardware_threads / (4 * std::max<std::size_t>(devices, 1));
+    return int(std::clamp<std::size_t>(share, 2, 8));
+}
 
 std::string BatchPlan::outputAt(int frame) const { return pathAt(output, frame); }
 bool BatchPlan::outputIsFolder() const { return isOutputFolder(output); }
@@ -591,8 +606,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
         if (!plan.frames.empty()) devices = setUpDevices(request, scene, report, watch);
     }
     // After the scene: decoding its EXR textures through OpenImageIO may change the global count.
-    Imf::setGlobalThreadCount(request.exr_threads > 0 ? request.exr_threads
-                                                      : int(std::max(1u, std::thread::hardware_concurrency())));
+    Imf::setGlobalThreadCount(request.exr_threads > 0 ? request.exr_threads : int(hardwareThreads()));
     const std::string sheet_path =
         request.contact_sheet.empty() ? "" : contactSheetPath(request.contact_sheet, plan.shard.index, plan.shard.count);
     if (!sheet_path.empty()) batch::checkContactSheet(request, plan, scene, sheet_path);
@@ -608,7 +622,8 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     options.label = request.input;  // warnings name the sequence, so each is reported once
 
     // ---- the frames ----
-    Pipeline pipeline({request, plan, cameras, scene, devices, options, std::max(1, request.composite_workers)});
+    if (devices.empty()) report.workers_per_device = workersPerDevice(request, 1);  // io_only, or no frames
+    Pipeline pipeline({request, plan, cameras, scene, devices, options, report.workers_per_device});
     watch.started(report);
     const std::optional<FrameResult> stopped_by = pipeline.run(report, watch);
     if (stopped_by) report.stopped_at = stopped_by->frame;

@@ -53,9 +53,12 @@ void ProgressPrinter::started(const BatchReport& report) {
     if (plan.shard.count > 1)
         shard = fmt::format(", shard {}/{} ({}) of {} frames, from {}", plan.shard.index, plan.shard.count,
                             shardModeName(plan.shard_mode), plan.range_frames, plan.shard_source);
-    out_ << fmt::format("batch: {} frames{} on {}; cameras: {}\n", plan.frames.size(), shard,
-                        report.devices.empty() ? std::string("no device (I/O only)")
-                                               : fmt::format("{}", fmt::join(report.devices, ", ")),
+    const std::string where =
+        report.devices.empty()
+            ? fmt::format("no device (I/O only, {} workers)", report.workers_per_device)
+            : fmt::format("{} ({} workers{})", fmt::join(report.devices, ", "), report.workers_per_device,
+                          report.devices.size() > 1 ? " each" : "");
+    out_ << fmt::format("batch: {} frames{} on {}; cameras: {}\n", plan.frames.size(), shard, where,
                         report.camera_source)
          << std::flush;
 }

@@ -122,9 +122,10 @@ Command addBatchCommand(CLI::App& app) {
         ->check(CLI::Range(1, 64))
         ->default_str("2");
     cmd->add_option("--workers", r.composite_workers,
-                    "Compositing threads per device (their host-side work overlaps)")
+                    "Compositing threads per device (their host-side work overlaps; default: a quarter of the "
+                    "hardware threads shared among the devices, 2 to 8)")
         ->check(CLI::Range(1, 64))
-        ->default_str("2");
+        ->default_str("auto");
     cmd->add_flag("--io-only", r.io_only, "Read and write every frame without compositing (measures the I/O)");
     cmd->add_flag("--list-frames", flags->list_frames, "Print the frames this run (shard) would process, and exit");
     cmd->add_flag("--overwrite-input", r.overwrite_input, "Allow outputs to replace their inputs");
