@@ -1,13 +1,16 @@
 // The compositor across frames: device memory kept between frames of different sizes and decal
 // counts, tile lists that outgrow their first capacity (the frame runs again, nothing dropped),
-// and in-place shading that leaves untouched pixels bit for bit.
+// and in-place shading that leaves untouched pixels bit for bit; packing on the calling thread
+// alone (CompositeOptions::host_threads).
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <array>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <thread>
 
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/synth.hpp"
@@ -65,6 +68,38 @@ TEST(CompositorFrames, OverflowingTileListsRunAgainAndMatchUnbinned) {
     const GBuffer unbinned = compositeOnce(scene, f, false);
     EXPECT_TRUE(sameBits(binned.planes.at(Attribute::Albedo), unbinned.planes.at(Attribute::Albedo)));
     EXPECT_FALSE(sameBits(binned.planes.at(Attribute::Albedo), f.gbuffer.planes.at(Attribute::Albedo)));
+}
+
+// A batch's workers pack on their own thread (host_threads 1): the same bits as every core's
+// packing, with normals and a roughness plane packed and unpacked too; OpenMP's setting is the
+// caller's again afterwards, and other threads never see it change.
+TEST(CompositorFrames, OneHostThreadPacksWhatEveryCorePacks) {
+    SynthFrame f = renderFrame(512, 300);  // past the pixel count from which packing is spread over cores
+    f.gbuffer.planes[Attribute::Roughness] = Plane{1, std::vector<float>(f.gbuffer.pixelCount(), 0.25f)};
+    DecalScene scene = scatter(f, 60, 0.5, 2.0, 5);
+    for (Decal& d : scene.decals) {
+        d.angle_fade_deg = {60.0, 80.0};  // needs the normals uploaded
+        d.effect(DecalTarget::Roughness) = TargetEffect{1.0f, BlendOp::Replace, glm::vec3(0.75f)};
+    }
+    const int before = omp_get_max_threads();
+    Compositor compositor(test::cpuDevice());
+    compositor.setScene(scene);
+    GBuffer every = f.gbuffer, one = f.gbuffer;
+    compositor.composite(every, f.camera, CompositeOptions{});
+    CompositeOptions single;
+    single.host_threads = 1;
+    int seen_elsewhere = 0;
+    std::thread other([&] { seen_elsewhere = omp_get_max_threads(); });
+    compositor.composite(one, f.camera, single);
+    other.join();
+    EXPECT_EQ(omp_get_max_threads(), before);
+    EXPECT_EQ(seen_elsewhere, before);
+    for (Attribute a : {Attribute::Albedo, Attribute::Normal, Attribute::Roughness}) {
+        ASSERT_TRUE(one.has(a));
+        EXPECT_TRUE(sameBits(one.planes.at(a), every.planes.at(a))) << attributeName(a);
+    }
+    EXPECT_FALSE(sameBits(one.planes.at(Attribute::Albedo), f.gbuffer.planes.at(Attribute::Albedo)));
+    EXPECT_FALSE(sameBits(one.planes.at(Attribute::Roughness), f.gbuffer.planes.at(Attribute::Roughness)));
 }
 
 // One compositor over frames that grow, shrink and change their decals gives what a fresh

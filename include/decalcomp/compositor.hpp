@@ -27,6 +27,11 @@ struct CompositeOptions {
     bool binned = true;                              // false: every pixel tests every decal (for tests and benchmarks)
     TileKernels tile_kernels = TileKernels::Device;  // the same lists either way (tests compare them)
     CleanDepths clean_depths = CleanDepths::Device;  // the same results either way (tests compare them)
+    // Threads that pack the planes into the device's staging memory and back: 0 = OpenMP's default
+    // (every core), 1 = the calling thread alone. Where several compositors run at once (a batch's
+    // workers), the frames are the parallelism, and each pack's team of threads would only spin in
+    // the others' way once it is done.
+    int host_threads = 0;
 };
 
 struct CompositeStats {

@@ -619,6 +619,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     options.pixel_filter_fast = request.pixel_filter_fast;
     options.uv_v_down = request.uv_v_down;
     options.compositing.binned = request.binned;
+    options.compositing.host_threads = 1;  // the workers' frames are the parallelism (CompositeOptions)
     options.label = request.input;  // warnings name the sequence, so each is reported once
 
     // ---- the frames ----

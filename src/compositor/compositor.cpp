@@ -264,6 +264,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
     if (beauty) checkBeautyPlanes(*beauty, frame.pixelCount());
     CompositeStats stats;
     if (s.scene.decals.empty()) return stats;  // nothing to blend: the planes stay as they are
+    const HostThreads host_threads(options.host_threads);
 
     cl::Context& context = device_.context();
     cl::CommandQueue& queue = s.queue;

@@ -1,5 +1,7 @@
 #include "compositor/surface_planes.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cstring>
 
@@ -141,6 +143,16 @@ void unpackSurfaceGroup(GBuffer& frame, const Camera& camera, const SurfaceLayou
         for (std::ptrdiff_t i = first; i < last; ++i)
             for (int c = 0; c < copy; ++c) p[i * stride + c] = r[i * 4 + c];
     }
+}
+
+HostThreads::HostThreads(int threads) {
+    if (threads <= 0) return;
+    before_ = omp_get_max_threads();
+    omp_set_num_threads(threads);
+}
+
+HostThreads::~HostThreads() {
+    if (before_ > 0) omp_set_num_threads(before_);
 }
 
 void parallelCopy(float* out, const float* in, PixelRange range) {

@@ -29,6 +29,20 @@ struct PixelRange {
     std::size_t first = 0, last = 0;
 };
 
+// The packing's threads on this thread while it lives (CompositeOptions::host_threads; 0 leaves
+// OpenMP's setting), as before it afterwards. OpenMP keeps the setting per calling thread, so other
+// threads' compositors are unaffected.
+class HostThreads {
+public:
+    explicit HostThreads(int threads);
+    ~HostThreads();
+    HostThreads(const HostThreads&) = delete;
+    HostThreads& operator=(const HostThreads&) = delete;
+
+private:
+    int before_ = 0;  // 0: unchanged
+};
+
 // Copies floats [first, last) of `in` to `out` (both indexed from 0), spread over the host's cores:
 // packing is pure memory traffic.
 void parallelCopy(float* out, const float* in, PixelRange range);
