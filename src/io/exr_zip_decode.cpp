@@ -2,15 +2,12 @@
 // other half of the codec's cost, runs at libdeflate's speed too.
 #include "io/exr_zip_decode.hpp"
 
-#include <OpenEXR/IlmThreadPool.h>
 #include <fmt/format.h>
 #include <libdeflate.h>
 
 #include <bit>
 #include <cstring>
-#include <exception>
 #include <memory>
-#include <mutex>
 #include <vector>
 
 #ifdef __SSE2__
@@ -19,6 +16,7 @@
 
 #include "decalcomp/error.hpp"
 #include "io/exr_core.hpp"
+#include "io/exr_pool.hpp"
 #include "io/exr_zip_layout.hpp"
 
 namespace decalcomp::io {
@@ -137,27 +135,6 @@ private:
     std::vector<ExrChannel*> channels_;
 };
 
-class ChunkTask : public IlmThread::Task {
-public:
-    ChunkTask(IlmThread::TaskGroup* group, const ChunkDecoder& decoder, const ChunkJob& job, std::exception_ptr& error,
-              std::mutex& error_mutex)
-        : Task(group), decoder_(decoder), job_(job), error_(error), error_mutex_(error_mutex) {}
-    void execute() override {
-        try {
-            decoder_.decode(job_);
-        } catch (...) {  // the first failure is rethrown once the group is done
-            const std::lock_guard lock(error_mutex_);
-            if (!error_) error_ = std::current_exception();
-        }
-    }
-
-private:
-    const ChunkDecoder& decoder_;
-    const ChunkJob& job_;
-    std::exception_ptr& error_;
-    std::mutex& error_mutex_;
-};
-
 }  // namespace
 
 bool canDecodeZip(const ExrPart& part) { return !zipChannels(part).empty(); }
@@ -181,14 +158,7 @@ void decodeZipChunks(const std::string& path, int index, ExrPart& part) {
                             path, index, job.box.min.y, job.info.start_y, job.info.start_y + job.info.height - 1));
     }
     const ChunkDecoder decoder(file, index, part, std::move(channels));
-    std::exception_ptr error;
-    std::mutex error_mutex;
-    {
-        IlmThread::TaskGroup group;  // waits for its tasks when it goes out of scope
-        for (const ChunkJob& job : jobs)
-            IlmThread::ThreadPool::addGlobalTask(new ChunkTask(&group, decoder, job, error, error_mutex));
-    }
-    if (error) std::rethrow_exception(error);
+    runOnExrPool(jobs.size(), [&](std::size_t j) { decoder.decode(jobs[j]); });
 }
 
 }  // namespace decalcomp::io

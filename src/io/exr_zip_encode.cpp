@@ -2,14 +2,13 @@
 // here so that the deflating, the codec's cost in every frame, runs at libdeflate's speed.
 #include "io/exr_zip_encode.hpp"
 
-#include <OpenEXR/IlmThreadPool.h>
 #include <fmt/format.h>
 #include <libdeflate.h>
 
-#include <atomic>
 #include <bit>
 #include <cstring>
 #include <memory>
+#include <new>
 
 #ifdef __SSE2__
 #include <emmintrin.h>
@@ -17,6 +16,7 @@
 
 #include "decalcomp/error.hpp"
 #include "io/exr_layout.hpp"
+#include "io/exr_pool.hpp"
 #include "io/exr_zip_layout.hpp"
 
 namespace decalcomp::io {
@@ -114,27 +114,6 @@ std::string encodeChunk(const ExrPart& part, const std::vector<const ExrChannel*
     return std::string(reinterpret_cast<const char*>(packed.data()), size);
 }
 
-class ChunkTask : public IlmThread::Task {
-public:
-    ChunkTask(IlmThread::TaskGroup* group, const ExrPart& part, const std::vector<const ExrChannel*>& channels,
-              int chunk, std::string& out, std::atomic<bool>& failed)
-        : Task(group), part_(part), channels_(channels), chunk_(chunk), out_(out), failed_(failed) {}
-    void execute() override {
-        try {
-            out_ = encodeChunk(part_, channels_, chunk_);
-        } catch (...) {  // out of memory: reported once the group is done
-            failed_ = true;
-        }
-    }
-
-private:
-    const ExrPart& part_;
-    const std::vector<const ExrChannel*>& channels_;
-    int chunk_;
-    std::string& out_;
-    std::atomic<bool>& failed_;
-};
-
 }  // namespace
 
 bool canEncodeZip(const ExrPart& part) { return !zipChannels(part).empty(); }
@@ -142,14 +121,11 @@ bool canEncodeZip(const ExrPart& part) { return !zipChannels(part).empty(); }
 std::vector<std::string> encodeZipChunks(const ExrPart& part, int first, int last, const std::string& path) {
     const std::vector<const ExrChannel*> channels = zipChannels(part);
     std::vector<std::string> chunks(std::size_t(last - first + 1));
-    std::atomic<bool> failed{false};
-    {
-        IlmThread::TaskGroup group;  // waits for its tasks when it goes out of scope
-        for (int chunk = first; chunk <= last; ++chunk)
-            IlmThread::ThreadPool::addGlobalTask(
-                new ChunkTask(&group, part, channels, chunk, chunks[std::size_t(chunk - first)], failed));
+    try {
+        runOnExrPool(chunks.size(), [&](std::size_t i) { chunks[i] = encodeChunk(part, channels, first + int(i)); });
+    } catch (const std::bad_alloc&) {
+        throw outputError(fmt::format("{}: cannot encode chunks {}-{}: out of memory", path, first, last));
     }
-    if (failed) throw outputError(fmt::format("{}: cannot encode chunks {}-{}: out of memory", path, first, last));
     return chunks;
 }
 
