@@ -521,7 +521,7 @@ unsigned hardwareThreads() { return std::max(1u, std::thread::hardware_concurren
 
 int workersPerDevice(const BatchRequest& request, std::size_t devices) {
     return request.composite_workers > 0 ? request.composite_workers
-                                         : defaultCompositeWorkers(hardwareThreads(), std::max<std::size_t>(devices, 1));
+                                         : defaultCompositeWorkers(hardwareThreads(), devices);
 }
 
 // The devices --device selects, with a compositor per worker each (report.workers_per_device).
@@ -623,7 +623,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     options.label = request.input;  // warnings name the sequence, so each is reported once
 
     // ---- the frames ----
-    if (devices.empty()) report.workers_per_device = workersPerDevice(request, 1);  // io_only, or no frames
+    if (devices.empty()) report.workers_per_device = workersPerDevice(request, 0);  // io_only, or no frames
     Pipeline pipeline({request, plan, cameras, scene, devices, options, report.workers_per_device});
     watch.started(report);
     const std::optional<FrameResult> stopped_by = pipeline.run(report, watch);
