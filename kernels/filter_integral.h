@@ -107,35 +107,6 @@ DC_INLINE float4 dc_integrate_slice(__constant const DcFrame* f, __global const 
     const DcTexelSpan ts = dc_texel_span(f, st.y * size.y, (float2)(st_u.y, st_v.y) * size.y, t.height);
     float4 sum = (float4)(0.0f);
     float below_t = dc_texel_share_below(&ts, 0);
-    if (ss.count <= 4) {
-        /* at most four columns (the common case): their shares once, not once per row */
-        float4 ws = (float4)(0.0f);
-        float below_s = dc_texel_share_below(&ss, 0), next_s = dc_texel_share_below(&ss, 1);
-        ws.x = next_s - below_s;
-        if (ss.count > 1) {
-            below_s = next_s;
-            next_s = dc_texel_share_below(&ss, 2);
-            ws.y = next_s - below_s;
-        }
-        if (ss.count > 2) {
-            below_s = next_s;
-            next_s = dc_texel_share_below(&ss, 3);
-            ws.z = next_s - below_s;
-        }
-        if (ss.count > 3) ws.w = dc_texel_share_below(&ss, 4) - next_s;
-        for (int j = 0; j < ts.count; ++j) {
-            const float next_t = dc_texel_share_below(&ts, j + 1), share_t = next_t - below_t;
-            below_t = next_t;
-            if (!(share_t > 0.0f)) continue;
-            const int row = ts.first + j;
-            float4 sum_row = dc_texel(texels, t, ss.first, row, slice) * ws.x;
-            if (ss.count > 1) sum_row += dc_texel(texels, t, ss.first + 1, row, slice) * ws.y;
-            if (ss.count > 2) sum_row += dc_texel(texels, t, ss.first + 2, row, slice) * ws.z;
-            if (ss.count > 3) sum_row += dc_texel(texels, t, ss.first + 3, row, slice) * ws.w;
-            sum += sum_row * share_t;
-        }
-        return sum;
-    }
     for (int j = 0; j < ts.count; ++j) {
         const float next_t = dc_texel_share_below(&ts, j + 1), share_t = next_t - below_t;
         below_t = next_t;

@@ -1015,7 +1015,6 @@ std::vector<Case> cases() {
          {"--add-channels", "shininess"}});
     add({"batch_queue_out_of_range_is_readable", B + BO + " --queue 100", 2, Expect::Error, {"--queue", "64"}});
     add({"batch_workers_huge_number_is_readable", B + BO + " --workers 1e400", 2, Expect::Error, {"--workers"}});
-    add({"batch_readers_out_of_range_is_readable", B + BO + " --readers 0", 2, Expect::Error, {"--readers", "0"}});
     add({"batch_threads_not_a_number", B + BO + " --threads many", 2, Expect::Error, {"--threads", "many"}});
     add({"batch_frames_malformed",
          "batch {in}/seq/frame.####.exr --decals {in}/seq/static_scene.json --device cpu -q "

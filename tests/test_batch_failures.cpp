@@ -414,22 +414,13 @@ void expectStoppedAt(const SmallSequence& s, const test::CommandResult& r, int f
 }
 
 // Frame 3 of 6 is not an EXR: its read fails at once, while frames 1 and 2 are still being
-// composited (or read, by other readers). Every run, whatever the workers, readers and queues,
-// stops at frame 3 with 1 and 2 written.
+// composited. Every run, whatever the workers and queues, stops at frame 3 with 1 and 2 written.
 TEST(BatchFirstFailure, CorruptFrameStopsTheBatchThereEveryRun) {
     SmallSequence s(6);
     std::ofstream(s.in(3)) << "not an exr";
-    const char* settings[] = {"--workers 1 --queue 1",
-                              "--workers 2 --queue 2",
-                              "--workers 3 --queue 4",
-                              "--workers 2 --queue 1",
-                              "--workers 4 --queue 3",
-                              "--workers 1 --queue 4",
-                              "--workers 3 --queue 1",
-                              "--workers 2 --queue 3",
-                              "--workers 1 --queue 1 --readers 3",
-                              "--workers 2 --queue 2 --readers 2",
-                              "--workers 3 --queue 1 --readers 4"};
+    const char* settings[] = {"--workers 1 --queue 1", "--workers 2 --queue 2", "--workers 3 --queue 4",
+                              "--workers 2 --queue 1", "--workers 4 --queue 3", "--workers 1 --queue 4",
+                              "--workers 3 --queue 1", "--workers 2 --queue 3"};
     for (const char* setting : settings) {
         fs::remove_all(s.dir.path() / "out");
         const auto r = s.batch(std::string("--frames 1-6 ") + setting);
@@ -450,8 +441,7 @@ TEST(BatchFirstFailure, FirstInFrameOrderWinsOverFirstInTime) {
     std::ofstream(s.in(5)) << "not an exr";
     for (int run = 0; run < 6; ++run) {
         fs::remove_all(s.dir.path() / "out");
-        const auto r = s.batch(
-            fmt::format("--frames 1-6 --workers {} --queue {} --readers {}", 1 + run % 3, 1 + run % 2, 1 + run % 4));
+        const auto r = s.batch(fmt::format("--frames 1-6 --workers {} --queue {}", 1 + run % 3, 1 + run % 2));
         EXPECT_EQ(r.exit_code, 3) << r.output;
         SCOPED_TRACE(run);
         expectStoppedAt(s, r, 3, 6, s.in(3) + ": no albedo channels found");

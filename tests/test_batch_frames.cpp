@@ -187,15 +187,6 @@ TEST(BatchWorkers, AQuarterOfTheHardwareThreadsSharedAmongTheDevicesFromTwoToEig
     EXPECT_EQ(defaultCompositeWorkers(16, 0), 4);  // no device (--io-only): as one
 }
 
-TEST(BatchReaders, OnePerEightHardwareThreadsFromOneToFour) {
-    EXPECT_EQ(defaultReaders(1), 1);
-    EXPECT_EQ(defaultReaders(2), 1);  // the 2-core VM: as before
-    EXPECT_EQ(defaultReaders(15), 1);
-    EXPECT_EQ(defaultReaders(16), 2);  // the GPU host: one reader bounded the batch
-    EXPECT_EQ(defaultReaders(24), 3);
-    EXPECT_EQ(defaultReaders(128), 4);  // each holds a frame being decoded: capped
-}
-
 TEST(BatchPlanTest, ExplicitShardWinsOverSlurm) {
     BatchRequest r;
     r.input = "in.####.exr";

@@ -46,8 +46,6 @@ struct BatchRequest {
     int queue_depth = 2;        // frames waiting between stages (memory bound)
     int composite_workers = 0;  // compositing threads per device, each with its own Compositor; 0: by
                                 // the machine (defaultCompositeWorkers)
-    int readers = 0;            // frames decoded at once, each by a reader thread; 0: by the machine
-                                // (defaultReaders)
     bool io_only = false;       // read and write without compositing (I/O cost, for benchmarks)
     bool binned = true;
 };
@@ -86,13 +84,13 @@ struct BatchProgress {
 
 // Where a batch's time went: thread time summed over frames, per stage (for --timing).
 struct BatchTimings {
-    double read_s = 0;        // Frame::read (decode on OpenEXR's pool), reader threads
+    double read_s = 0;        // Frame::read (decode on OpenEXR's pool), reader thread
     double prepare_s = 0;     // Frame::prepare: channel mapping, float planes, camera, checks, masks
     double composite_s = 0;   // Frame::composite, wall time (host packing, transfers, kernels, store)
     double kernels_ms = 0;    // of which device kernel time (profiling events)
     double encode_s = 0;      // Frame::stageOutputs (encode on OpenEXR's pool into temporaries), workers
     double write_s = 0;       // Frame::commitOutputs (renames into place, in frame order), writer thread
-    double read_wait_s = 0;   // readers blocked on a full queue (compositing or writing is slower)
+    double read_wait_s = 0;   // reader blocked on a full queue (compositing or writing is slower)
     double write_idle_s = 0;  // writer waiting for frames (reading or compositing is slower)
 };
 
@@ -102,7 +100,6 @@ struct BatchReport {
     ChunkWriteStats chunks;  // summed over the written frames' outputs (FrameReport::chunks_*)
     std::vector<std::string> devices;  // names of the devices used; empty for io_only
     int workers_per_device = 0;        // compositing (for io_only: encoding) threads per device
-    int readers = 1;                   // reader threads (BatchRequest::readers, resolved)
     std::string camera_source;  // FrameCameras::describe()
     BatchProgress progress;
     std::vector<FrameResult> failures;  // in frame (plan) order
@@ -119,12 +116,6 @@ struct BatchReport {
 // the reader busy; at least 2 (one frame's host work overlaps another's kernels), at most 8 (each
 // holds a frame in memory).
 int defaultCompositeWorkers(unsigned hardware_threads, std::size_t devices);
-
-// Reader threads when BatchRequest::readers is 0. One reader decodes a frame at a time, its chunks
-// on OpenEXR's pool, and waits for the slowest chunk; on a 16-thread host it bounded the whole
-// batch, with cores idle (docs/benchmarks.md). So one reader per 8 hardware threads, 1 to 4 (each
-// holds a frame being decoded).
-int defaultReaders(unsigned hardware_threads);
 
 // Called on the thread that called runBatch, in frame (plan) order.
 class BatchObserver {

@@ -130,7 +130,6 @@ def batch(
     threads: int = 0,
     queue: int = 2,
     workers: int = 0,
-    readers: int = 0,
     progress: Optional[Callable[[dict[str, Any]], None]] = None,
     profile: str = "auto",
     profile_files: Sequence[str] = (),

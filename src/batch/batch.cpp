@@ -272,10 +272,10 @@ private:
     std::map<std::string, std::set<int>> frames_;  // warning -> frames
 };
 
-// The three stages of a batch and what they share. The readers take frames in plan order (each the
-// next one not taken), the workers composite them in whatever order they arrive, and the writer
-// writes and reports them in plan order again: a batch that stops at a failing frame has written
-// every frame before it and none after it, whatever the timing.
+// The three stages of a batch and what they share. The reader takes frames in plan order, the
+// workers composite them in whatever order they finish, and the writer writes and reports them
+// in plan order again: a batch that stops at a failing frame has written every frame before it
+// and none after it, whatever the timing.
 class Pipeline {
 public:
     struct SetUp {  // once per batch, shared by every frame
@@ -286,20 +286,17 @@ public:
         std::vector<DeviceWorkers>& devices;
         FrameOptions options;
         int workers_per_device = 1;
-        int readers = 1;
     };
 
     explicit Pipeline(SetUp setup)
         : s_(std::move(setup)),
           // --io-only encodes on as many workers as compositing on one device: the same pipeline, without decals
           workers_(s_.request.io_only ? s_.workers_per_device : int(s_.devices.size()) * s_.workers_per_device),
-          readers_(std::max(1, s_.readers)),
           depth_(std::size_t(std::max(1, s_.request.queue_depth))),
           to_composite_(depth_),
           to_write_(depth_),
-          // each reader holds the frame it decodes, as each worker holds one
-          in_flight_(batch::framesInFlight(s_.request, workers_ + readers_ - 1)),
-          timings_(std::size_t(readers_ + 1 + workers_)),
+          in_flight_(batch::framesInFlight(s_.request, workers_)),
+          timings_(std::size_t(workers_) + 2),
           sheet_(int(s_.plan.frames.size())) {}
 
     ~Pipeline() {  // on an exception in the observer: stop and join the threads
@@ -321,20 +318,17 @@ public:
 private:
     SetUp s_;
     const int workers_;
-    const int readers_;
     const std::size_t depth_;
     BoundedQueue<Job> to_composite_, to_write_;
     BoundedQueue<FrameResult> results_{std::size_t(-1) / 2};
     InFlightLimit in_flight_;
     ObserverLag observer_lag_;
-    std::atomic<int> producers_{0};           // of to_write_: the readers and the workers
-    std::atomic<int> readers_left_{0};        // of to_composite_
-    std::atomic<std::size_t> next_frame_{0};  // the plan's next frame no reader has taken
+    std::atomic<int> producers_{0};  // of to_write_: the reader and the workers
     SequenceConventions sequence_;  // depth and normal readings settled once for the sequence
     WarningSet warnings_;
     WarningSet beauty_notes_;  // what the beauty step did, said once per distinct summary
     WarningSet filter_notes_;  // the pixel filter each frame was integrated over, likewise
-    std::vector<BatchTimings> timings_;  // the readers', the writer's, then one per worker; summed at the end
+    std::vector<BatchTimings> timings_;  // reader, writer, then one per worker; summed at the end
     ChunkWriteStats chunks_;             // the writer thread's
     ContactSheet sheet_;                 // likewise
     std::vector<std::thread> threads_;
@@ -348,34 +342,28 @@ private:
     void producerDone() {
         if (--producers_ == 0) to_write_.close();
     }
-    void readFrames(int reader);
-    Job readFrame(std::size_t index, BatchTimings& timings);
+    void readFrames();
+    Job readFrame(std::size_t index);
     void compositeFrames(int worker);
     void compositeFrame(Job& job, Compositor* compositor, BatchTimings& timings);
     void writeFrames();
     FrameResult writeFrame(Job& job);
 };
 
-void Pipeline::readFrames(int reader) {
-    BatchTimings& timings = timings_[std::size_t(reader)];
-    // A frame's place in flight is taken before the frame, so that the writer's next frame in plan
-    // order always has one.
-    while (in_flight_.acquire()) {
-        const std::size_t i = next_frame_++;
-        if (i >= s_.plan.frames.size()) {
-            in_flight_.release();
-            break;
-        }
-        Job job = readFrame(i, timings);
+void Pipeline::readFrames() {
+    BatchTimings& timings = timings_[0];
+    for (std::size_t i = 0; i < s_.plan.frames.size(); ++i) {
+        if (!in_flight_.acquire()) break;
+        Job job = readFrame(i);
         BoundedQueue<Job>& next = job.finished ? to_write_ : to_composite_;
         StageTimer t{timings.read_wait_s};
         if (!next.push(std::move(job))) break;
     }
-    if (--readers_left_ == 0) to_composite_.close();
+    to_composite_.close();
     producerDone();
 }
 
-Job Pipeline::readFrame(std::size_t index, BatchTimings& timings) {
+Job Pipeline::readFrame(std::size_t index) {
     const BatchRequest& request = s_.request;
     Job job;
     job.index = index;
@@ -394,7 +382,7 @@ Job Pipeline::readFrame(std::size_t index, BatchTimings& timings) {
         FrameOptions frame_options = s_.options;
         frame_options.frame_number = double(job.frame);
         job.work = std::make_unique<Frame>(std::move(sources), std::move(targets), std::move(frame_options));
-        StageTimer t{timings.read_s};
+        StageTimer t{timings_[0].read_s};
         // Only the chunks the frame's decals can reach; --io-only reads and re-encodes every chunk:
         // the I/O of a frame whose decals change everything, the yardstick of the batch bench.
         if (request.io_only) job.work->readAsIfEverythingChanged();
@@ -407,7 +395,7 @@ Job Pipeline::readFrame(std::size_t index, BatchTimings& timings) {
 }
 
 void Pipeline::compositeFrames(int worker) {
-    BatchTimings& timings = timings_[std::size_t(readers_ + 1 + worker)];
+    BatchTimings& timings = timings_[std::size_t(worker) + 2];
     Compositor* compositor = s_.request.io_only ? nullptr
                                                 : s_.devices[std::size_t(worker / s_.workers_per_device)]
                                                       .compositors[std::size_t(worker % s_.workers_per_device)]
@@ -445,7 +433,7 @@ void Pipeline::compositeFrame(Job& job, Compositor* compositor, BatchTimings& ti
 }
 
 void Pipeline::writeFrames() {
-    BatchTimings& timings = timings_[std::size_t(readers_)];
+    BatchTimings& timings = timings_[1];
     InOrder in_order;
     bool stopped = false;
     while (!stopped) {
@@ -482,7 +470,7 @@ void Pipeline::writeFrames() {
 
 FrameResult Pipeline::writeFrame(Job& job) {
     try {
-        StageTimer t{timings_[std::size_t(readers_)].write_s};
+        StageTimer t{timings_[1].write_s};
         const std::vector<std::string>& written = job.work->commitOutputs();
         const FrameReport& frame = job.work->report();
         chunks_ += ChunkWriteStats{frame.chunks_copied, frame.chunks_reencoded, frame.pixels_reencoded};
@@ -495,9 +483,8 @@ FrameResult Pipeline::writeFrame(Job& job) {
 
 std::optional<FrameResult> Pipeline::run(BatchReport& report, BatchObserver& watch) {
     const auto start = std::chrono::steady_clock::now();
-    producers_ = readers_ + workers_;
-    readers_left_ = readers_;
-    for (int r = 0; r < readers_; ++r) threads_.emplace_back([this, r] { readFrames(r); });
+    producers_ = 1 + workers_;
+    threads_.emplace_back([this] { readFrames(); });
     for (int w = 0; w < workers_; ++w) threads_.emplace_back([this, w] { compositeFrames(w); });
     threads_.emplace_back([this] { writeFrames(); });
 
@@ -558,8 +545,6 @@ std::vector<DeviceWorkers> setUpDevices(const BatchRequest& request, const Decal
 }
 
 }  // namespace
-
-int defaultReaders(unsigned hardware_threads) { return int(std::clamp(hardware_threads / 8, 1u, 4u)); }
 
 int defaultCompositeWorkers(unsigned hardware_threads, std::size_t devices) {
     const std::size_t share = hardware_threads / (4 * std::max<std::size_t>(devices, 1));
@@ -639,8 +624,7 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
 
     // ---- the frames ----
     if (devices.empty()) report.workers_per_device = workersPerDevice(request, 0);  // io_only, or no frames
-    report.readers = request.readers > 0 ? request.readers : defaultReaders(hardwareThreads());
-    Pipeline pipeline({request, plan, cameras, scene, devices, options, report.workers_per_device, report.readers});
+    Pipeline pipeline({request, plan, cameras, scene, devices, options, report.workers_per_device});
     watch.started(report);
     const std::optional<FrameResult> stopped_by = pipeline.run(report, watch);
     if (stopped_by) report.stopped_at = stopped_by->frame;

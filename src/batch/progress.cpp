@@ -53,12 +53,11 @@ void ProgressPrinter::started(const BatchReport& report) {
     if (plan.shard.count > 1)
         shard = fmt::format(", shard {}/{} ({}) of {} frames, from {}", plan.shard.index, plan.shard.count,
                             shardModeName(plan.shard_mode), plan.range_frames, plan.shard_source);
-    const std::string readers = report.readers > 1 ? fmt::format(", {} readers", report.readers) : "";
     const std::string where =
         report.devices.empty()
-            ? fmt::format("no device (I/O only, {} workers{})", report.workers_per_device, readers)
-            : fmt::format("{} ({} workers{}{})", fmt::join(report.devices, ", "), report.workers_per_device,
-                          report.devices.size() > 1 ? " each" : "", readers);
+            ? fmt::format("no device (I/O only, {} workers)", report.workers_per_device)
+            : fmt::format("{} ({} workers{})", fmt::join(report.devices, ", "), report.workers_per_device,
+                          report.devices.size() > 1 ? " each" : "");
     out_ << fmt::format("batch: {} frames{} on {}; cameras: {}\n", plan.frames.size(), shard, where,
                         report.camera_source)
          << std::flush;

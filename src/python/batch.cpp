@@ -53,11 +53,11 @@ private:
 };
 
 py::dict batch(const std::string& input, const std::string& output, const std::string& scene, const py::kwargs& kwargs) {
-    rejectUnknown(kwargs, {"extra_inputs", "passes",        "preview",         "contact_sheet", "frames",  "camera",
-                           "cameras",      "device",        "overwrite_input", "force",         "resume",  "keep_going",
-                           "shard",        "threads",       "queue",           "workers",       "readers", "progress",
-                           "profile",      "profile_files", "layer",           "channels",      "depth",   "reversed_z",
-                           "normals",      "add_channels",  "pixel_filter",    "binned",        "ocio"},
+    rejectUnknown(kwargs,
+                  {"extra_inputs", "passes", "preview", "contact_sheet", "frames", "camera", "cameras", "device", "overwrite_input", "force",
+                   "resume", "keep_going", "shard", "threads", "queue", "workers", "progress", "profile",
+                   "profile_files", "layer", "channels", "depth", "reversed_z", "normals", "add_channels",
+                   "pixel_filter", "binned", "ocio"},
                   "batch");
     BatchRequest r;
     r.input = input;
@@ -81,7 +81,6 @@ py::dict batch(const std::string& input, const std::string& output, const std::s
     set("threads", r.exr_threads);
     set("queue", r.queue_depth);
     set("workers", r.composite_workers);
-    set("readers", r.readers);
     set("extra_inputs", r.extra_inputs);
     set("ocio", r.ocio_config);
     auto passes = argument(kwargs, "passes");

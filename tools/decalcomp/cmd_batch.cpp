@@ -126,10 +126,6 @@ Command addBatchCommand(CLI::App& app) {
                     "hardware threads shared among the devices, 2 to 8)")
         ->check(CLI::Range(1, 64))
         ->default_str("auto");
-    cmd->add_option("--readers", r.readers,
-                    "Frames decoded at once, each by its own thread (default: one per 8 hardware threads, 1 to 4)")
-        ->check(CLI::Range(1, 16))
-        ->default_str("auto");
     cmd->add_flag("--io-only", r.io_only, "Read and write every frame without compositing (measures the I/O)");
     cmd->add_flag("--list-frames", flags->list_frames, "Print the frames this run (shard) would process, and exit");
     cmd->add_flag("--overwrite-input", r.overwrite_input, "Allow outputs to replace their inputs");
