@@ -3,7 +3,8 @@
 // as OpenEXR stores it, the others are no bigger than OpenEXR's own, and parts the encoder cannot
 // lay out stay with OpenEXR's writer. Inflated (src/io/exr_zip_decode.cpp): every sample OpenEXR
 // wrote comes back, raw chunks included, a region reads only its chunks, and a corrupt chunk is
-// refused naming the file, the part and the chunk's first line.
+// refused naming the file, the part and the chunk's first line. Both spread their chunks over
+// OpenEXR's pool (src/io/exr_pool.cpp): every chunk once, the first failure after all have ended.
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfCompression.h>
 #include <OpenEXR/ImfHeader.h>
@@ -12,17 +13,20 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
 
 #include "decalcomp/exr_file.hpp"
 #include "io/exr_layout.hpp"
+#include "io/exr_pool.hpp"
 #include "io/exr_zip_decode.hpp"
 #include "io/exr_zip_encode.hpp"
 #include "support/exr_test_io.hpp"
@@ -243,6 +247,32 @@ TEST(ZipScope, OtherCodecsTilesAndSubsampledChannelsStayWithOpenExr) {
     ExrImage missing = zip;  // a header channel the part does not hold
     missing.parts[0].channels.pop_back();
     EXPECT_FALSE(ours(missing));
+}
+
+// With no pool threads (calls inline), one, and several: each index runs exactly once, and a
+// failure is rethrown only after every call has ended, the others having run.
+TEST(ExrPool, RunsEveryIndexOnceAndRethrowsAFailureAfterAllHaveRun) {
+    for (int threads : {0, 1, 4}) {
+        SCOPED_TRACE(threads);
+        Imf::setGlobalThreadCount(threads);
+        constexpr std::size_t kCalls = 200;
+        std::vector<std::atomic<int>> runs(kCalls);
+        io::runOnExrPool(kCalls, [&](std::size_t i) { ++runs[i]; });
+        EXPECT_TRUE(std::all_of(runs.begin(), runs.end(), [](const std::atomic<int>& r) { return r == 1; }));
+
+        std::vector<std::atomic<int>> again(kCalls);
+        try {
+            io::runOnExrPool(kCalls, [&](std::size_t i) {
+                ++again[i];
+                if (i == 17 || i == 150) throw std::runtime_error("call " + std::to_string(i));
+            });
+            ADD_FAILURE() << "no failure rethrown";
+        } catch (const std::runtime_error& e) {
+            EXPECT_TRUE(std::string(e.what()) == "call 17" || std::string(e.what()) == "call 150") << e.what();
+        }
+        EXPECT_TRUE(std::all_of(again.begin(), again.end(), [](const std::atomic<int>& r) { return r == 1; }));
+    }
+    Imf::setGlobalThreadCount(0);
 }
 
 }  // namespace
