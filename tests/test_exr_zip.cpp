@@ -5,6 +5,7 @@
 // wrote comes back, raw chunks included, a region reads only its chunks, and a corrupt chunk is
 // refused naming the file, the part and the chunk's first line. Both spread their chunks over
 // OpenEXR's pool (src/io/exr_pool.cpp): every chunk once, the first failure after all have ended.
+#include <OpenEXR/IlmThreadPool.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfCompression.h>
 #include <OpenEXR/ImfHeader.h>
@@ -14,13 +15,21 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <cstring>
+#include <ctime>
 #include <fstream>
+#include <functional>
+#include <future>
 #include <iterator>
+#include <memory>
+#include <mutex>
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <tuple>
 #include <vector>
 
@@ -257,12 +266,12 @@ TEST(ExrPool, RunsEveryIndexOnceAndRethrowsAFailureAfterAllHaveRun) {
         Imf::setGlobalThreadCount(threads);
         constexpr std::size_t kCalls = 200;
         std::vector<std::atomic<int>> runs(kCalls);
-        io::runOnExrPool(kCalls, [&](std::size_t i) { ++runs[i]; });
+        io::runOnExrPool(io::PoolWork::Decode, kCalls, [&](std::size_t i) { ++runs[i]; });
         EXPECT_TRUE(std::all_of(runs.begin(), runs.end(), [](const std::atomic<int>& r) { return r == 1; }));
 
         std::vector<std::atomic<int>> again(kCalls);
         try {
-            io::runOnExrPool(kCalls, [&](std::size_t i) {
+            io::runOnExrPool(io::PoolWork::Encode, kCalls, [&](std::size_t i) {
                 ++again[i];
                 if (i == 17 || i == 150) throw std::runtime_error("call " + std::to_string(i));
             });
@@ -272,6 +281,76 @@ TEST(ExrPool, RunsEveryIndexOnceAndRethrowsAFailureAfterAllHaveRun) {
         }
         EXPECT_TRUE(std::all_of(again.begin(), again.end(), [](const std::atomic<int>& r) { return r == 1; }));
     }
+    Imf::setGlobalThreadCount(0);
+}
+
+// A caller whose pool tasks wait behind another caller's (every pool thread busy) runs its own
+// indices: it neither waits for the pool nor for its tasks that start late and find nothing left.
+TEST(ExrPool, ACallerProgressesWhileEveryPoolThreadIsBusy) {
+    Imf::setGlobalThreadCount(2);
+    std::mutex mutex;
+    std::condition_variable changed;
+    int blocked = 0;
+    bool release = false;
+    // Tasks of another user of the pool hold both its threads until released.
+    struct Blocker : IlmThread::Task {
+        Blocker(IlmThread::TaskGroup* group, std::function<void()> body) : Task(group), body_(std::move(body)) {}
+        void execute() override { body_(); }
+        std::function<void()> body_;
+    };
+    auto busy = std::make_unique<IlmThread::TaskGroup>();  // waits for the blockers when reset
+    for (int t = 0; t < 2; ++t)
+        IlmThread::ThreadPool::addGlobalTask(new Blocker(busy.get(), [&] {
+            std::unique_lock lock(mutex);
+            ++blocked;
+            changed.notify_all();
+            changed.wait(lock, [&] { return release; });
+        }));
+    {
+        std::unique_lock lock(mutex);
+        changed.wait(lock, [&] { return blocked == 2; });
+    }
+    std::atomic<int> ran{0}, on_caller{0};
+    auto call = std::async(std::launch::async, [&] {
+        const std::thread::id self = std::this_thread::get_id();
+        io::runOnExrPool(io::PoolWork::Decode, 50, [&](std::size_t) {
+            ++ran;
+            on_caller += std::this_thread::get_id() == self;
+        });
+    });
+    const bool finished = call.wait_for(std::chrono::seconds(20)) == std::future_status::ready;
+    EXPECT_TRUE(finished) << "the call waited for the busy pool";
+    if (finished) {
+        EXPECT_EQ(on_caller.load(), 50) << "every index ran on the calling thread";
+    }
+    {
+        const std::lock_guard lock(mutex);
+        release = true;
+    }
+    changed.notify_all();
+    busy.reset();
+    call.get();
+    EXPECT_EQ(ran.load(), 50);
+    Imf::setGlobalThreadCount(0);
+}
+
+// codecCpuSeconds counts the CPU the calls took, by kind, whichever thread ran them.
+TEST(ExrPool, CountsTheCallsCpuTimeByKind) {
+    Imf::setGlobalThreadCount(2);
+    const CodecCpu before = codecCpuSeconds();
+    const auto spin = [](std::size_t) {  // 30 ms of CPU each
+        timespec start{}, now{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &start);
+        do clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+        while ((now.tv_sec - start.tv_sec) * 1e3 + (now.tv_nsec - start.tv_nsec) * 1e-6 < 30.0);
+    };
+    io::runOnExrPool(io::PoolWork::Encode, 4, spin);
+    const CodecCpu after = codecCpuSeconds();
+    EXPECT_GE(after.encode_s - before.encode_s, 0.119);
+    EXPECT_LT(after.encode_s - before.encode_s, 1.0);
+    EXPECT_EQ(after.decode_s, before.decode_s);
+    io::runOnExrPool(io::PoolWork::Decode, 2, spin);
+    EXPECT_GE(codecCpuSeconds().decode_s - after.decode_s, 0.059);
     Imf::setGlobalThreadCount(0);
 }
 

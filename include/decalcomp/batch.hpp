@@ -92,6 +92,9 @@ struct BatchTimings {
     double write_s = 0;       // Frame::commitOutputs (renames into place, in frame order), writer thread
     double read_wait_s = 0;   // reader blocked on a full queue (compositing or writing is slower)
     double write_idle_s = 0;  // writer waiting for frames (reading or compositing is slower)
+    // CPU time: prepare and composite on the workers' own threads (a device driver that spins
+    // while it waits counts here); the chunk codecs on every thread that ran them.
+    double prepare_cpu_s = 0, composite_cpu_s = 0, decode_cpu_s = 0, encode_cpu_s = 0;
 };
 
 struct BatchReport {

@@ -2,6 +2,8 @@
 // thread joined by bounded queues, with OpenEXR's thread pool decoding and encoding inside each
 // read and write. The workers also encode their frames into temporaries; the writer renames them
 // into place in plan order, so where a batch stops does not depend on which worker was faster.
+#include "decalcomp/batch.hpp"
+
 #include <OpenEXR/ImfThreading.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -11,6 +13,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdlib>
+#include <ctime>
 #include <deque>
 #include <filesystem>
 #include <map>
@@ -20,11 +23,11 @@
 #include <thread>
 
 #include "batch/batch_files.hpp"
-#include "decalcomp/batch.hpp"
 #include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/contact_sheet.hpp"
 #include "decalcomp/device.hpp"
+#include "decalcomp/exr_file.hpp"
 #include "decalcomp/frame.hpp"
 #include "decalcomp/frame_cameras.hpp"
 #include "decalcomp/pipeline.hpp"
@@ -41,11 +44,22 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Adds the time from construction to destruction to `total`.
+double threadCpuSeconds() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+// Adds the time from construction to destruction to `total`, and this thread's CPU time to `cpu`.
 struct StageTimer {
     double& total;
+    double* cpu = nullptr;
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
-    ~StageTimer() { total += secondsSince(start); }
+    double cpu_start = cpu ? threadCpuSeconds() : 0.0;
+    ~StageTimer() {
+        total += secondsSince(start);
+        if (cpu) *cpu += threadCpuSeconds() - cpu_start;
+    }
 };
 
 // A FIFO of at most `capacity` items. close(): no more pushes, pops drain what is left;
@@ -410,11 +424,11 @@ void Pipeline::compositeFrames(int worker) {
 void Pipeline::compositeFrame(Job& job, Compositor* compositor, BatchTimings& timings) {
     try {
         {
-            StageTimer t{timings.prepare_s};
+            StageTimer t{timings.prepare_s, &timings.prepare_cpu_s};
             job.work->prepare(s_.scene, &sequence_);  // empty for --io-only: nothing to composite
         }
         if (compositor) {
-            StageTimer t{timings.composite_s};
+            StageTimer t{timings.composite_s, &timings.composite_cpu_s};
             job.work->composite(*compositor);
             timings.kernels_ms += job.work->report().stats.totalKernelMs();
         }
@@ -513,6 +527,7 @@ BatchTimings Pipeline::timings() const {
         sum.read_s += t.read_s, sum.prepare_s += t.prepare_s, sum.composite_s += t.composite_s;
         sum.kernels_ms += t.kernels_ms, sum.encode_s += t.encode_s, sum.write_s += t.write_s;
         sum.read_wait_s += t.read_wait_s, sum.write_idle_s += t.write_idle_s;
+        sum.prepare_cpu_s += t.prepare_cpu_s, sum.composite_cpu_s += t.composite_cpu_s;
     }
     return sum;
 }
@@ -626,12 +641,16 @@ BatchReport runBatch(const BatchRequest& request, BatchObserver* observer) {
     if (devices.empty()) report.workers_per_device = workersPerDevice(request, 0);  // io_only, or no frames
     Pipeline pipeline({request, plan, cameras, scene, devices, options, report.workers_per_device});
     watch.started(report);
+    const CodecCpu codecs_before = codecCpuSeconds();
     const std::optional<FrameResult> stopped_by = pipeline.run(report, watch);
+    const CodecCpu codecs_after = codecCpuSeconds();
     if (stopped_by) report.stopped_at = stopped_by->frame;
     report.warnings = pipeline.warnings();
     report.beauty = pipeline.beautyNotes();
     report.pixel_filter = pipeline.pixelFilterNotes();
     report.timings = pipeline.timings();
+    report.timings.decode_cpu_s = codecs_after.decode_s - codecs_before.decode_s;
+    report.timings.encode_cpu_s = codecs_after.encode_s - codecs_before.encode_s;
     report.chunks = pipeline.chunks();
     // The sheet shows a finished run (failed frames of --keep-going as grey cells); a stopped run
     // writes none, as it writes no frame after the failure.

@@ -10,6 +10,7 @@
 #include <map>
 #include <string>
 
+#include "cl/asleep_wait.hpp"
 #include "compositor/beauty_transfer.hpp"
 #include "compositor/device_buffers.hpp"
 #include "compositor/kernel_params.hpp"
@@ -530,7 +531,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             if (light_back)
                 s.light.enqueueDownload(queue, 0, light_terms * pixels * kBeautyPixelBytes, &light_downloaded);
             queue.flush();
-            if (binned) totals_read.wait();  // the binning's totals are back long before the planes
+            if (binned) waitAsleep(totals_read);  // the binning's totals are back long before the planes
             if (binned &&
                 (std::size_t(s.totals[0]) > s.coarse_capacity || std::size_t(s.totals[1]) > s.list_capacity)) {
                 queue.finish();
@@ -547,13 +548,13 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 const auto* result = static_cast<const float*>(group.beginDownload(queue, pixels * sizeof(cl_float4)));
                 for (int c = 0; c < runs; ++c) {
                     cl::Event& done = downloaded[std::size_t(c)][std::size_t(g)];
-                    if (done()) done.wait();
+                    if (done()) waitAsleep(done);
                     unpackSurfaceGroup(frame, camera, surface, g, chunkRange(pixels, c, runs), result, s.targets);
                 }
                 group.endDownload(queue);
             }
             if (beauty) {
-                queue.finish();
+                finishAsleep(queue);
                 const auto* beauty_result =
                     static_cast<const float*>(changes.beginDownload(queue, pixels * kBeautyPixelBytes));
                 const auto* light_result = light_back ? static_cast<const float*>(s.light.beginDownload(
@@ -565,7 +566,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 changes.endDownload(queue);
                 if (light_back) s.light.endDownload(queue);
             }
-            queue.finish();
+            finishAsleep(queue);  // (NVIDIA's clFinish spins a core: cl/asleep_wait.hpp)
             if (s.profiling) {
                 stats.shading_ms = eventMs(e_shade) + (clean_plane ? eventMs(e_clean) : 0.0);
                 if (!occlusion.occluders.empty()) stats.occlusion_ms = eventMs(e_occlusion);

@@ -7,8 +7,13 @@
 
 namespace decalcomp::io {
 
-// Runs work(i) for every i in [0, count) on the pool and returns once every call has ended; the
-// first exception a call threw is rethrown here (the other calls still run).
-void runOnExrPool(std::size_t count, const std::function<void(std::size_t)>& work);
+// What a call does, for the CPU totals (codecCpuSeconds, exr_file.hpp).
+enum class PoolWork { Decode, Encode };
+
+// Runs work(i) for every i in [0, count) and returns once every call has ended; the first
+// exception a call threw is rethrown here (the other calls still run). The calling thread takes
+// indices too, so a caller whose pool tasks wait behind other callers' still progresses, and
+// returns without waiting for tasks that found no index left.
+void runOnExrPool(PoolWork kind, std::size_t count, const std::function<void(std::size_t)>& work);
 
 }  // namespace decalcomp::io

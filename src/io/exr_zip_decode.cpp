@@ -158,7 +158,7 @@ void decodeZipChunks(const std::string& path, int index, ExrPart& part) {
                             path, index, job.box.min.y, job.info.start_y, job.info.start_y + job.info.height - 1));
     }
     const ChunkDecoder decoder(file, index, part, std::move(channels));
-    runOnExrPool(jobs.size(), [&](std::size_t j) { decoder.decode(jobs[j]); });
+    runOnExrPool(PoolWork::Decode, jobs.size(), [&](std::size_t j) { decoder.decode(jobs[j]); });
 }
 
 }  // namespace decalcomp::io

@@ -122,7 +122,8 @@ std::vector<std::string> encodeZipChunks(const ExrPart& part, int first, int las
     const std::vector<const ExrChannel*> channels = zipChannels(part);
     std::vector<std::string> chunks(std::size_t(last - first + 1));
     try {
-        runOnExrPool(chunks.size(), [&](std::size_t i) { chunks[i] = encodeChunk(part, channels, first + int(i)); });
+        runOnExrPool(PoolWork::Encode, chunks.size(),
+                     [&](std::size_t i) { chunks[i] = encodeChunk(part, channels, first + int(i)); });
     } catch (const std::bad_alloc&) {
         throw outputError(fmt::format("{}: cannot encode chunks {}-{}: out of memory", path, first, last));
     }

@@ -59,6 +59,10 @@ void run(BatchFlags& f) {
             "encode {:.1f}, write {:.1f}; reader blocked {:.1f}, writer idle {:.1f}\n",
             1e3 * t.read_s / n, 1e3 * t.prepare_s / n, 1e3 * t.composite_s / n, t.kernels_ms / n, 1e3 * t.encode_s / n,
             1e3 * t.write_s / n, 1e3 * t.read_wait_s / n, 1e3 * t.write_idle_s / n);
+        std::cerr << fmt::format(
+            "timing, ms per frame (CPU time): prepare {:.1f}, composite {:.1f} (the workers' threads); decode {:.1f}, "
+            "encode {:.1f} (every thread)\n",
+            1e3 * t.prepare_cpu_s / n, 1e3 * t.composite_cpu_s / n, 1e3 * t.decode_cpu_s / n, 1e3 * t.encode_cpu_s / n);
     }
     if (f.stats)
         std::cout << fmt::format("stats: frames written {}, chunks copied {}, chunks re-encoded {}, pixels re-encoded {}\n",
