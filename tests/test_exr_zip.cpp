@@ -5,7 +5,6 @@
 // wrote comes back, raw chunks included, a region reads only its chunks, and a corrupt chunk is
 // refused naming the file, the part and the chunk's first line. Both spread their chunks over
 // OpenEXR's pool (src/io/exr_pool.cpp): every chunk once, the first failure after all have ended.
-#include <OpenEXR/IlmThreadPool.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfCompression.h>
 #include <OpenEXR/ImfHeader.h>
@@ -284,31 +283,26 @@ TEST(ExrPool, RunsEveryIndexOnceAndRethrowsAFailureAfterAllHaveRun) {
     Imf::setGlobalThreadCount(0);
 }
 
-// A caller whose pool tasks wait behind another caller's (every pool thread busy) runs its own
-// indices: it neither waits for the pool nor for its tasks that start late and find nothing left.
+// A caller whose indices the pool's threads cannot take (each is busy with another call's) runs
+// them itself instead of waiting.
 TEST(ExrPool, ACallerProgressesWhileEveryPoolThreadIsBusy) {
     Imf::setGlobalThreadCount(2);
     std::mutex mutex;
     std::condition_variable changed;
     int blocked = 0;
     bool release = false;
-    // Tasks of another user of the pool hold both its threads until released.
-    struct Blocker : IlmThread::Task {
-        Blocker(IlmThread::TaskGroup* group, std::function<void()> body) : Task(group), body_(std::move(body)) {}
-        void execute() override { body_(); }
-        std::function<void()> body_;
-    };
-    auto busy = std::make_unique<IlmThread::TaskGroup>();  // waits for the blockers when reset
-    for (int t = 0; t < 2; ++t)
-        IlmThread::ThreadPool::addGlobalTask(new Blocker(busy.get(), [&] {
+    // Another call holds both pool threads (and its own caller) until released.
+    std::thread other([&] {
+        io::runOnExrPool(io::PoolWork::Decode, 3, [&](std::size_t) {
             std::unique_lock lock(mutex);
             ++blocked;
             changed.notify_all();
             changed.wait(lock, [&] { return release; });
-        }));
+        });
+    });
     {
         std::unique_lock lock(mutex);
-        changed.wait(lock, [&] { return blocked == 2; });
+        changed.wait(lock, [&] { return blocked == 3; });
     }
     std::atomic<int> ran{0}, on_caller{0};
     auto call = std::async(std::launch::async, [&] {
@@ -328,9 +322,54 @@ TEST(ExrPool, ACallerProgressesWhileEveryPoolThreadIsBusy) {
         release = true;
     }
     changed.notify_all();
-    busy.reset();
+    other.join();
     call.get();
     EXPECT_EQ(ran.load(), 50);
+    Imf::setGlobalThreadCount(0);
+}
+
+// The pool's thread takes a decode call's indices before those of an encode call that came first
+// (in a batch, the reader's frame before the workers' encodes).
+TEST(ExrPool, DecodingGoesBeforeEncoding) {
+    Imf::setGlobalThreadCount(1);
+    std::mutex mutex;
+    std::vector<char> pool_order;  // 'e' or 'd' per index the pool's thread ran after the decode began
+    std::atomic<bool> decoding{false};
+    std::thread encode([&] {
+        const std::thread::id self = std::this_thread::get_id();
+        io::runOnExrPool(io::PoolWork::Encode, 40, [&](std::size_t) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+            if (std::this_thread::get_id() != self && decoding) {
+                const std::lock_guard lock(mutex);
+                pool_order.push_back('e');
+            }
+        });
+    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(35));  // the pool's thread is on the encode
+    std::thread decode([&] {
+        const std::thread::id self = std::this_thread::get_id();
+        decoding = true;
+        io::runOnExrPool(io::PoolWork::Decode, 20, [&](std::size_t) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            if (std::this_thread::get_id() != self) {
+                const std::lock_guard lock(mutex);
+                pool_order.push_back('d');
+            }
+        });
+    });
+    decode.join();
+    encode.join();
+    // At most the encode index it was running when the decode came ('e' first), then decoding.
+    ASSERT_GE(pool_order.size(), 3u);
+    const std::size_t first_decode =
+        std::size_t(std::find(pool_order.begin(), pool_order.end(), 'd') - pool_order.begin());
+    EXPECT_LE(first_decode, 1u) << std::string(pool_order.begin(), pool_order.end());
+    const auto decodes = std::count(pool_order.begin(), pool_order.end(), 'd');
+    EXPECT_GE(decodes, 5) << std::string(pool_order.begin(), pool_order.end());
+    EXPECT_TRUE(std::all_of(pool_order.begin() + std::ptrdiff_t(first_decode),
+                            pool_order.begin() + std::ptrdiff_t(first_decode) + decodes,
+                            [](char c) { return c == 'd'; }))
+        << std::string(pool_order.begin(), pool_order.end());
     Imf::setGlobalThreadCount(0);
 }
 

@@ -10,7 +10,6 @@
 #include <map>
 #include <string>
 
-#include "cl/asleep_wait.hpp"
 #include "compositor/beauty_transfer.hpp"
 #include "compositor/device_buffers.hpp"
 #include "compositor/kernel_params.hpp"
@@ -531,7 +530,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
             if (light_back)
                 s.light.enqueueDownload(queue, 0, light_terms * pixels * kBeautyPixelBytes, &light_downloaded);
             queue.flush();
-            if (binned) waitAsleep(totals_read);  // the binning's totals are back long before the planes
+            if (binned) totals_read.wait();  // the binning's totals are back long before the planes
             if (binned &&
                 (std::size_t(s.totals[0]) > s.coarse_capacity || std::size_t(s.totals[1]) > s.list_capacity)) {
                 queue.finish();
@@ -548,13 +547,13 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 const auto* result = static_cast<const float*>(group.beginDownload(queue, pixels * sizeof(cl_float4)));
                 for (int c = 0; c < runs; ++c) {
                     cl::Event& done = downloaded[std::size_t(c)][std::size_t(g)];
-                    if (done()) waitAsleep(done);
+                    if (done()) done.wait();
                     unpackSurfaceGroup(frame, camera, surface, g, chunkRange(pixels, c, runs), result, s.targets);
                 }
                 group.endDownload(queue);
             }
             if (beauty) {
-                finishAsleep(queue);
+                queue.finish();
                 const auto* beauty_result =
                     static_cast<const float*>(changes.beginDownload(queue, pixels * kBeautyPixelBytes));
                 const auto* light_result = light_back ? static_cast<const float*>(s.light.beginDownload(
@@ -566,7 +565,7 @@ CompositeStats Compositor::composite(GBuffer& frame, const Camera& camera, const
                 changes.endDownload(queue);
                 if (light_back) s.light.endDownload(queue);
             }
-            finishAsleep(queue);  // (NVIDIA's clFinish spins a core: cl/asleep_wait.hpp)
+            queue.finish();
             if (s.profiling) {
                 stats.shading_ms = eventMs(e_shade) + (clean_plane ? eventMs(e_clean) : 0.0);
                 if (!occlusion.occluders.empty()) stats.occlusion_ms = eventMs(e_occlusion);

@@ -7,9 +7,12 @@
 #include <condition_variable>
 #include <cstdint>
 #include <ctime>
+#include <deque>
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <thread>
+#include <vector>
 
 #include "decalcomp/exr_file.hpp"
 
@@ -17,7 +20,7 @@ namespace decalcomp::io {
 
 namespace {
 
-std::atomic<std::int64_t> g_cpu_ns[2];  // PoolWork::Decode, PoolWork::Encode
+std::atomic<std::int64_t> g_cpu_ns[2];  // by PoolWork
 
 std::int64_t threadCpuNs() {
     timespec t{};
@@ -25,68 +28,118 @@ std::int64_t threadCpuNs() {
     return std::int64_t(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
 }
 
-// What the caller and its pool tasks share. A task may start after the caller has returned (it
-// waited in the pool's queue): it then finds no index left and never touches `work`.
+// One runOnExrPool call. `next` is only advanced under the pool's mutex, so no index is handed
+// out after the last; `work` is only called for a handed-out index, so never after the caller
+// has returned.
 struct PoolRun {
     PoolRun(const std::function<void(std::size_t)>& w, std::size_t n, PoolWork k) : work(w), count(n), kind(k) {}
     const std::function<void(std::size_t)>& work;
     const std::size_t count;
     const PoolWork kind;
-    std::atomic<std::size_t> next{0};
-    std::size_t finished = 0;  // under mutex
+    std::size_t next = 0;      // under the pool's mutex
+    std::size_t finished = 0;  // likewise
     std::exception_ptr error;  // likewise
-    std::mutex mutex;
-    std::condition_variable all_finished;
 
-    // Runs indices until none is left.
-    void drain() {
-        std::size_t ran = 0;
+    void run(std::size_t index, std::exception_ptr& failure) {
         const std::int64_t start = threadCpuNs();
-        std::exception_ptr failure;
-        for (std::size_t i = next++; i < count; i = next++, ++ran) {
-            try {
-                work(i);
-            } catch (...) {
-                if (!failure) failure = std::current_exception();
-            }
+        try {
+            work(index);
+        } catch (...) {
+            failure = std::current_exception();
         }
-        if (ran == 0) return;
         g_cpu_ns[int(kind)] += threadCpuNs() - start;
-        const std::lock_guard lock(mutex);
-        if (failure && !error) error = failure;
-        finished += ran;
-        if (finished == count) all_finished.notify_all();
     }
 };
 
-class DrainTask : public IlmThread::Task {
+class CodecPool {
 public:
-    DrainTask(IlmThread::TaskGroup* group, std::shared_ptr<PoolRun> run) : Task(group), run_(std::move(run)) {}
-    void execute() override { run_->drain(); }
+    // Matches the thread count to OpenEXR's global pool (it may have changed since the last call).
+    // The threads are detached: surplus ones end after their current index.
+    void follow(int threads) {
+        const std::lock_guard lock(mutex_);
+        if (threads < threads_) {
+            retire_ += threads_ - threads;
+            work_or_retire_.notify_all();
+        }
+        for (; threads_ < threads; ++threads_) std::thread([this] { serve(); }).detach();
+        threads_ = threads;
+    }
+
+    void run(PoolWork kind, std::size_t count, const std::function<void(std::size_t)>& work) {
+        auto call = std::make_shared<PoolRun>(work, count, kind);
+        std::unique_lock lock(mutex_);
+        if (threads_ > 0 && count > 1) {
+            calls_.push_back(call);
+            work_or_retire_.notify_all();
+        }
+        while (call->next < call->count) {  // the caller's share
+            const std::size_t index = call->next++;
+            lock.unlock();
+            std::exception_ptr failure;
+            call->run(index, failure);
+            lock.lock();
+            finish(*call, failure);
+        }
+        all_finished_.wait(lock, [&] { return call->finished == call->count; });
+        std::erase(calls_, call);
+        if (call->error) std::rethrow_exception(call->error);
+    }
 
 private:
-    std::shared_ptr<PoolRun> run_;
+    std::mutex mutex_;
+    std::condition_variable work_or_retire_, all_finished_;
+    std::vector<std::shared_ptr<PoolRun>> calls_;  // in arrival order
+    int threads_ = 0;                              // serving, less those asked to retire
+    int retire_ = 0;                               // threads asked to end
+
+    void finish(PoolRun& call, const std::exception_ptr& failure) {
+        if (failure && !call.error) call.error = failure;
+        if (++call.finished == call.count) all_finished_.notify_all();
+    }
+
+    // The oldest decode call with an index left, else the oldest encode call; null when none.
+    std::shared_ptr<PoolRun> nextCall() const {
+        std::shared_ptr<PoolRun> chosen;
+        for (const auto& call : calls_) {
+            if (call->next >= call->count) continue;
+            if (call->kind == PoolWork::Decode) return call;
+            if (!chosen) chosen = call;
+        }
+        return chosen;
+    }
+
+    void serve() {
+        std::unique_lock lock(mutex_);
+        for (;;) {
+            std::shared_ptr<PoolRun> call;
+            work_or_retire_.wait(lock, [&] { return retire_ > 0 || (call = nextCall()); });
+            if (!call) {
+                retire_ -= 1;
+                return;
+            }
+            const std::size_t index = call->next++;
+            lock.unlock();
+            std::exception_ptr failure;
+            call->run(index, failure);
+            lock.lock();
+            finish(*call, failure);
+        }
+    }
 };
 
-// Tasks belong to a group, whose destructor waits for them; the callers wait for their indices
-// instead, so the tasks' group lives as long as the process.
-IlmThread::TaskGroup& detachedTasks() {
-    static auto* group = new IlmThread::TaskGroup;
-    return *group;
+// Lives as long as the process: its threads may still wait on it while static objects go.
+CodecPool& codecPool() {
+    static auto* pool = new CodecPool;
+    return *pool;
 }
 
 }  // namespace
 
 void runOnExrPool(PoolWork kind, std::size_t count, const std::function<void(std::size_t)>& work) {
     if (count == 0) return;
-    auto run = std::make_shared<PoolRun>(work, count, kind);
-    IlmThread::ThreadPool& pool = IlmThread::ThreadPool::globalThreadPool();
-    const std::size_t helpers = std::min<std::size_t>(count - 1, std::size_t(std::max(0, pool.numThreads())));
-    for (std::size_t t = 0; t < helpers; ++t) pool.addTask(new DrainTask(&detachedTasks(), run));
-    run->drain();
-    std::unique_lock lock(run->mutex);
-    run->all_finished.wait(lock, [&] { return run->finished == run->count; });
-    if (run->error) std::rethrow_exception(run->error);
+    CodecPool& pool = codecPool();
+    pool.follow(std::max(0, IlmThread::ThreadPool::globalThreadPool().numThreads()));
+    pool.run(kind, count, work);
 }
 
 }  // namespace decalcomp::io
