@@ -72,14 +72,7 @@ public:
             calls_.push_back(call);
             work_or_retire_.notify_all();
         }
-        while (call->next < call->count) {  // the caller's share
-            const std::size_t index = call->next++;
-            lock.unlock();
-            std::exception_ptr failure;
-            call->run(index, failure);
-            lock.lock();
-            finish(*call, failure);
-        }
+        while (call->next < call->count) runNextIndex(lock, *call);  // the caller's share
         all_finished_.wait(lock, [&] { return call->finished == call->count; });
         std::erase(calls_, call);
         if (call->error) std::rethrow_exception(call->error);
@@ -92,7 +85,13 @@ private:
     int threads_ = 0;                              // serving, less those asked to retire
     int retire_ = 0;                               // threads asked to end
 
-    void finish(PoolRun& call, const std::exception_ptr& failure) {
+    // Hands out the call's next index and runs it outside the lock (held on entry and return).
+    void runNextIndex(std::unique_lock<std::mutex>& lock, PoolRun& call) {
+        const std::size_t index = call.next++;
+        lock.unlock();
+        std::exception_ptr failure;
+        call.run(index, failure);
+        lock.lock();
         if (failure && !call.error) call.error = failure;
         if (++call.finished == call.count) all_finished_.notify_all();
     }
@@ -117,12 +116,7 @@ private:
                 retire_ -= 1;
                 return;
             }
-            const std::size_t index = call->next++;
-            lock.unlock();
-            std::exception_ptr failure;
-            call->run(index, failure);
-            lock.lock();
-            finish(*call, failure);
+            runNextIndex(lock, *call);
         }
     }
 };
