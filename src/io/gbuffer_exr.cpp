@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -15,6 +16,7 @@
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_file.hpp"
 #include "io/exr_layout.hpp"
+#include "io/exr_pool.hpp"
 
 namespace decalcomp {
 
@@ -97,13 +99,15 @@ void checkChannel(const Files& files, const ChannelRef& ref, bool allow_uint, co
 // Calls visit(frame_index, channel_index, x, y, count) for every run of `count` pixels from (x, y)
 // along a row in the overlap of the frame's window and a channel's data window that lies in one
 // chunk `part` decoded; indices are into each one's own row-major samples.
+// Only rows [first_row, last_row] (absolute) when given.
 template <typename Visit>
-void forEachOverlapRun(const Imath::Box2i& window, const ExrPart& part, Visit visit) {
+void forEachOverlapRun(const Imath::Box2i& window, const ExrPart& part, Visit visit, int first_row = INT_MIN,
+                       int last_row = INT_MAX) {
     const Imath::Box2i dw = part.header.dataWindow();
     const std::size_t width = std::size_t(window.max.x - window.min.x + 1);
     const long long channel_width = (long long)dw.max.x - dw.min.x + 1;
     const int x0 = std::max(window.min.x, dw.min.x), x1 = std::min(window.max.x, dw.max.x);
-    const int y0 = std::max(window.min.y, dw.min.y), y1 = std::min(window.max.y, dw.max.y);
+    const int y0 = std::max({window.min.y, dw.min.y, first_row}), y1 = std::min({window.max.y, dw.max.y, last_row});
     const int tile = part.chunks.tile_width;
     for (int y = y0; y <= y1; ++y)
         for (int x = x0; x <= x1;) {
@@ -176,7 +180,7 @@ Plane readOnWindow(const Files& files, const std::vector<ChannelRef>& refs, cons
                                  std::all_of(cs.begin(), cs.end(), [&](int c) {
                                      return channels[std::size_t(c)]->type == SampleType::Float;
                                  });
-        forEachOverlapRun(window, *group.part, [&](std::size_t frame, std::size_t sample, int, int, int count) {
+        const auto copy = [&](std::size_t frame, std::size_t sample, int, int, int count) {
             float* out = plane.samples.data() + frame * stride;
             const std::size_t n = std::size_t(count);
             if (!whole_float) {
@@ -193,6 +197,13 @@ Plane readOnWindow(const Files& files, const std::vector<ChannelRef>& refs, cons
                 interleaveFloats<3>(from, n, out);
             else
                 interleaveFloats<4>(from, n, out);
+        };
+        // In bands of rows on the codecs' pool, as part of reading the frame: pure memory traffic.
+        constexpr int kBandRows = 32;
+        const int bands = (window.max.y - window.min.y) / kBandRows + 1;
+        io::runOnExrPool(io::PoolWork::Decode, std::size_t(bands), [&](std::size_t band) {
+            const int first = window.min.y + int(band) * kBandRows;
+            forEachOverlapRun(window, *group.part, copy, first, first + kBandRows - 1);
         });
     }
     return plane;
