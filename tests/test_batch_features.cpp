@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -152,6 +153,29 @@ TEST(BatchFeatures, IoOnlyReencodesEveryChunkAndKeepsEveryPixel) {
     EXPECT_NE(r.output.find("chunks copied 0, chunks re-encoded"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("pixels re-encoded " + std::to_string(pixels)), std::string::npos) << r.output;
     for (int f : kFrames) EXPECT_EQ(test::pixelDifference(readExr(FramePattern(out).path(f)), readExr(s.albedoAt(f))), "") << f;
+}
+
+// --timing's second line: CPU time per frame of the workers' stages and of the chunk codecs (the
+// frames are ZIP: every chunk is inflated on read and the changed ones deflated on write).
+TEST(BatchFeatures, TimingGivesTheStagesAndTheCodecsCpuTime) {
+    PassSequence s;
+    const auto r = s.batch(s.dir.file("out/comp.####.exr"), "--device cpu -q --timing");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("timing, ms per frame (thread time): read "), std::string::npos) << r.output;
+    const std::string cpu_line = "timing, ms per frame (CPU time): prepare ";
+    const std::size_t at = r.output.find(cpu_line);
+    ASSERT_NE(at, std::string::npos) << r.output;
+    double prepare = -1, composite = -1, decode = -1, encode = -1;
+    ASSERT_EQ(std::sscanf(r.output.c_str() + at + cpu_line.size(),
+                          "%lf, composite %lf (the workers' threads); decode %lf, encode %lf (every thread)", &prepare,
+                          &composite, &decode, &encode),
+              4)
+        << r.output;
+    EXPECT_GT(prepare, 0.0) << r.output;
+    EXPECT_GT(composite, 0.0) << r.output;
+    EXPECT_GT(decode, 0.0) << r.output;
+    EXPECT_GT(encode, 0.0) << r.output;
+    EXPECT_LT(prepare + composite + decode + encode, 60'000.0) << r.output;  // ms per frame of 64 x 48 pixels
 }
 
 TEST(BatchFeatures, OutputWithoutFrameTokenThatIsNoFolderIsAUsageError) {
