@@ -23,10 +23,10 @@ namespace decalcomp::io {
 
 namespace {
 
-// OpenEXR 3.1.5 deflates at zlib's level 4. libdeflate's levels 4 to 6 cost the same on render
-// passes and 6 packs tightest: files about 0.4 % smaller than OpenEXR's (decalcomp-bench-zip,
-// docs/benchmarks.md, stop 45).
-constexpr int kDeflateLevel = 6;
+// OpenEXR 3.1.5 deflates at zlib's level 4, and so does this encoder, at libdeflate's. Level 6
+// packed render passes 0.5-1 % tighter, but took 20-25 % longer on composited frames, whose
+// decal textures compress worse (decalcomp-bench-zip, docs/benchmarks.md, stop 48).
+constexpr int kDeflateLevel = 4;
 
 struct CompressorDeleter {
     void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
