@@ -84,11 +84,11 @@ struct BatchProgress {
 
 // Where a batch's time went: thread time summed over frames, per stage (for --timing).
 struct BatchTimings {
-    double read_s = 0;        // Frame::read (decode on OpenEXR's pool), reader thread
+    double read_s = 0;        // Frame::read (decode on the codecs' pool), reader thread
     double prepare_s = 0;     // Frame::prepare: channel mapping, float planes, camera, checks, masks
     double composite_s = 0;   // Frame::composite, wall time (host packing, transfers, kernels, store)
     double kernels_ms = 0;    // of which device kernel time (profiling events)
-    double encode_s = 0;      // Frame::stageOutputs (encode on OpenEXR's pool into temporaries), workers
+    double encode_s = 0;      // Frame::stageOutputs (encode on the codecs' pool into temporaries), workers
     double write_s = 0;       // Frame::commitOutputs (renames into place, in frame order), writer thread
     double read_wait_s = 0;   // reader blocked on a full queue (compositing or writing is slower)
     double write_idle_s = 0;  // writer waiting for frames (reading or compositing is slower)
@@ -134,7 +134,7 @@ public:
 
 // Runs the batch: scene, textures and kernels are set up once; one thread reads (frame N+1), the
 // compositing workers shade (frame N) and one thread writes (frame N-1), with bounded queues in
-// between, while OpenEXR's thread pool decodes and encodes. Frames are written and reported in
+// between, while the codecs' thread pool decodes and encodes. Frames are written and reported in
 // plan order. Without keep_going every input of the range must exist before anything starts
 // (else Error(Input), nothing written), and the first failing frame stops the batch: every frame
 // before it is written, none after it, and the observer's finished() sees the counts before its

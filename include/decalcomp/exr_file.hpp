@@ -83,7 +83,7 @@ void commitExrTemporary(const std::string& temporary, const std::string& path);
 void discardExrTemporary(const std::string& temporary) noexcept;
 
 // CPU time the chunk codecs have taken in this process so far, summed over every thread that ran
-// them (OpenEXR's pool and the callers): what `batch --timing` reports beside the stages' wall times.
+// them (the codecs' pool and the callers): what `batch --timing` reports beside the stages' wall times.
 struct CodecCpu {
     double decode_s = 0, encode_s = 0;
 };

@@ -1,5 +1,5 @@
 // The batch loop over Frame: one reader thread, compositing workers (per device) and one writer
-// thread joined by bounded queues, with OpenEXR's thread pool decoding and encoding inside each
+// thread joined by bounded queues, with the codecs' thread pool (decoding first) inside each
 // read and write. The workers also encode their frames into temporaries; the writer renames them
 // into place in plan order, so where a batch stops does not depend on which worker was faster.
 #include "decalcomp/batch.hpp"
