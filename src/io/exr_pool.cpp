@@ -53,24 +53,36 @@ struct PoolRun {
 
 class CodecPool {
 public:
+    ~CodecPool() { follow(0); }  // joined, so their thread_local buffers and compressors are freed
+
     // Matches the thread count to OpenEXR's global pool (it may have changed since the last call).
-    // The threads are detached: surplus ones end after their current index.
-    void follow(int threads) {
-        const std::lock_guard lock(mutex_);
-        if (threads < threads_) {
-            retire_ += threads_ - threads;
-            work_or_retire_.notify_all();
+    // Surplus threads end after their current chunk and are joined before this returns.
+    void follow(int count) {
+        const std::lock_guard resizing(resize_mutex_);
+        std::vector<std::thread> leaving;
+        {
+            const std::lock_guard lock(mutex_);
+            if (int(threads_.size()) == count) return;
+            wanted_ = count;
+            while (int(threads_.size()) > count) {
+                leaving.push_back(std::move(threads_.back()));
+                threads_.pop_back();
+            }
+            while (int(threads_.size()) < count) {
+                const int slot = int(threads_.size());
+                threads_.emplace_back([this, slot] { serve(slot); });
+            }
         }
-        for (; threads_ < threads; ++threads_) std::thread([this] { serve(); }).detach();
-        threads_ = threads;
+        work_or_leave_.notify_all();
+        for (std::thread& thread : leaving) thread.join();
     }
 
     void run(PoolWork kind, std::size_t count, const std::function<void(std::size_t)>& work) {
         auto call = std::make_shared<PoolRun>(work, count, kind);
         std::unique_lock lock(mutex_);
-        if (threads_ > 0 && count > 1) {
+        if (!threads_.empty() && count > 1) {
             calls_.push_back(call);
-            work_or_retire_.notify_all();
+            work_or_leave_.notify_all();
         }
         while (call->next < call->count) runNextIndex(lock, *call);  // the caller's share
         all_finished_.wait(lock, [&] { return call->finished == call->count; });
@@ -79,11 +91,12 @@ public:
     }
 
 private:
+    std::mutex resize_mutex_;  // one follow() at a time: it joins outside mutex_
     std::mutex mutex_;
-    std::condition_variable work_or_retire_, all_finished_;
+    std::condition_variable work_or_leave_, all_finished_;
     std::vector<std::shared_ptr<PoolRun>> calls_;  // in arrival order
-    int threads_ = 0;                              // serving, less those asked to retire
-    int retire_ = 0;                               // threads asked to end
+    std::vector<std::thread> threads_;             // slot i serves while i < wanted_
+    int wanted_ = 0;
 
     // Hands out the call's next index and runs it outside the lock (held on entry and return).
     void runNextIndex(std::unique_lock<std::mutex>& lock, PoolRun& call) {
@@ -107,24 +120,20 @@ private:
         return chosen;
     }
 
-    void serve() {
+    void serve(int slot) {
         std::unique_lock lock(mutex_);
         for (;;) {
             std::shared_ptr<PoolRun> call;
-            work_or_retire_.wait(lock, [&] { return retire_ > 0 || (call = nextCall()); });
-            if (!call) {
-                retire_ -= 1;
-                return;
-            }
+            work_or_leave_.wait(lock, [&] { return slot >= wanted_ || (call = nextCall()); });
+            if (!call) return;  // (slot >= wanted_ is tested first)
             runNextIndex(lock, *call);
         }
     }
 };
 
-// Lives as long as the process: its threads may still wait on it while static objects go.
 CodecPool& codecPool() {
-    static auto* pool = new CodecPool;
-    return *pool;
+    static CodecPool pool;
+    return pool;
 }
 
 }  // namespace
