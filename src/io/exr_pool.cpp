@@ -7,7 +7,6 @@
 #include <condition_variable>
 #include <cstdint>
 #include <ctime>
-#include <deque>
 #include <exception>
 #include <memory>
 #include <mutex>
