@@ -13,7 +13,6 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdlib>
-#include <ctime>
 #include <deque>
 #include <filesystem>
 #include <map>
@@ -23,6 +22,7 @@
 #include <thread>
 
 #include "batch/batch_files.hpp"
+#include "core/thread_cpu_time.hpp"
 #include "decalcomp/channel_mapping.hpp"
 #include "decalcomp/compositor.hpp"
 #include "decalcomp/contact_sheet.hpp"
@@ -44,11 +44,7 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-double threadCpuSeconds() {
-    timespec t{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
+double threadCpuSeconds() { return 1e-9 * double(threadCpuNs()); }
 
 // Adds the time from construction to destruction to `total`, and this thread's CPU time to `cpu`.
 struct StageTimer {

@@ -6,13 +6,13 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
-#include <ctime>
 #include <exception>
 #include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
 
+#include "core/thread_cpu_time.hpp"
 #include "decalcomp/exr_file.hpp"
 
 namespace decalcomp::io {
@@ -20,12 +20,6 @@ namespace decalcomp::io {
 namespace {
 
 std::atomic<std::int64_t> g_cpu_ns[2];  // by PoolWork
-
-std::int64_t threadCpuNs() {
-    timespec t{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return std::int64_t(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
-}
 
 // One runOnExrPool call. `next` is only advanced under the pool's mutex, so no index is handed
 // out after the last; `work` is only called for a handed-out index, so never after the caller
