@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <algorithm>
 #include <cfloat>
 #include <chrono>
 #include <cmath>
@@ -60,6 +61,40 @@ TEST_P(RandomScenes, BinnedEqualsUnbinnedExactly) {
     const RandomFrame f = makeRandomFrame(GetParam());
     EXPECT_EQ(test::binnedUnbinnedDifferences(f, makeRandomDecals(f, GetParam(), 300)), 0u)
         << "binning dropped or reordered decals for some pixels";
+}
+
+// Many small decals centred on a band of rows: their tiles list more than the 256 entries the
+// point kernels stage in local memory (shading.cl dc_stage_list), and each entry's pixel range
+// holds few of its tile's pixels.
+DecalScene smallDecalsOnABand(const RandomFrame& f, std::uint32_t seed) {
+    synth::ScatterOptions scatter;
+    scatter.count = 2000;
+    scatter.min_size = 0.05;
+    scatter.max_size = 0.5;
+    scatter.texture_size = 8;
+    scatter.seed = seed;
+    scatter.first_row = f.gbuffer.height / 3;
+    scatter.last_row = f.gbuffer.height / 3 + 8;
+    return synth::scatterDecals(f.gbuffer, f.camera, scatter);
+}
+
+TEST_P(RandomScenes, SmallDecalsBeyondTheStagedEntriesMatchReferenceAndUnbinned) {
+    const RandomFrame f = makeRandomFrame(GetParam());
+    const DecalScene decals = smallDecalsOnABand(f, GetParam());
+    const BinningResult bins = binRandomScene(f, decals);
+    int longest = 0, listed_tiles = 0;
+    for (std::size_t t = 0; t + 1 < bins.tile_offsets.size(); ++t) {
+        const int length = bins.tile_offsets[t + 1] - bins.tile_offsets[t];
+        longest = std::max(longest, length);
+        listed_tiles += length > 0;
+    }
+    ASSERT_GT(longest, 256) << "no tile lists more entries than the kernels stage";
+    const auto [out, c] = compositeAndCompare(f, decals);
+    EXPECT_EQ(c.mismatched, 0u) << "max error " << c.max_error << " over " << c.compared << " pixels";
+    EXPECT_GT(c.changed, 0u);
+    // the decals are small: their listed tiles hold many pixels none of them reaches
+    EXPECT_LT(double(c.changed), 0.9 * listed_tiles * DC_TILE_SIZE * DC_TILE_SIZE);
+    EXPECT_EQ(test::binnedUnbinnedDifferences(f, decals), 0u) << "binning dropped or reordered decals for some pixels";
 }
 
 // How far the kernel's float view depth may be from the double reference at view depth z. With
