@@ -47,15 +47,19 @@ inline float3 dc_world_to_camera_vector(__constant const DcFrame* f, float3 v) {
 
 inline bool dc_is_background_depth(float d) { return !(d > 0.0f) || isinf(d) || d >= DC_BACKGROUND_DEPTH; }
 
-/* Writes the camera-space point of pixel (x, y) and returns true, or returns false for
- * background (invalid depth, beyond the far plane, or too close to the camera). */
-inline bool dc_reconstruct(__constant const DcFrame* f, __global const float* depth_plane,
-                           __global const float4* position_plane, int x, int y, float3* p_out) {
+/* Pixel (x, y)'s depth sample (1 where the frame has no depth pass). */
+inline float dc_pixel_depth(__constant const DcFrame* f, __global const float* depth_plane, int x, int y) {
+    return f->has_depth ? depth_plane[(size_t)y * f->width + x] : 1.0f;
+}
+
+/* Writes the camera-space point of pixel (x, y), whose depth sample is d (dc_pixel_depth), and
+ * returns true, or returns false for background (invalid depth, beyond the far plane, or too close
+ * to the camera). */
+inline bool dc_reconstruct_from(__constant const DcFrame* f, float d, __global const float4* position_plane, int x,
+                                int y, float3* p_out) {
     const size_t i = (size_t)y * f->width + x;
     const float2 ndc = dc_pixel_ndc(f, x, y);
     float3 p;
-    float d = 1.0f;
-    if (f->has_depth) d = depth_plane[i];
 
     if (f->depth_convention == DC_DEPTH_POSITION) {
         if (f->has_depth && dc_is_background_depth(d)) return false;
@@ -76,6 +80,12 @@ inline bool dc_reconstruct(__constant const DcFrame* f, __global const float* de
     if (any(isnan(p)) || any(isinf(p))) return false;
     *p_out = p;
     return true;
+}
+
+/* dc_reconstruct_from with the pixel's depth read here. */
+inline bool dc_reconstruct(__constant const DcFrame* f, __global const float* depth_plane,
+                           __global const float4* position_plane, int x, int y, float3* p_out) {
+    return dc_reconstruct_from(f, dc_pixel_depth(f, depth_plane, x, y), position_plane, x, y, p_out);
 }
 
 /* The view depth (-z) of pixel (x, y) for the tile ranges, false for background. Planar depth

@@ -328,9 +328,10 @@ DC_INLINE DcSurface dc_point_decal(__constant const DcFrame* frame, __global con
                           variant);
 }
 
-/* A pixel whose list [begin, end) is not empty (its tile's, binned; every decal, unbinned):
- * composites the list into the surface planes and returns the beauty's change (dc_beauty_change; 0
- * where nothing changed or without a beauty). */
+/* A pixel whose list [begin, end) is not empty (its tile's, binned; every decal, unbinned), with
+ * its depth sample (and in the point program its first surface plane's value) as loaded: composites the list into the surface
+ * planes and returns the beauty's change (dc_beauty_change; 0 where nothing changed or without a
+ * beauty). */
 inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global const float* depth_plane,
                                     __global const float4* position_plane, __global float4* surface0,
                                     __global float4* surface1, __global float4* surface2,
@@ -342,7 +343,8 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                                     __local const DcStagedList* staged, int staged_count,
                                     __global const float* mask_weights, __global const uint* occlusion_maps,
                                     __global float* light, __global const float4* rest_points,
-                                    __global const float4* rest_frames, const int variant, int x, int y) {
+                                    __global const float4* rest_frames, const int variant, int x, int y,
+                                    float depth, float4 in0_loaded) {
     const size_t i = (size_t)y * frame->width + x;
     const int attributes = frame->attributes;
     const bool has_group1 = (attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
@@ -356,8 +358,13 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
      * 4-12 % of the point-sampled kernels, 11-14 % of the filtered ones; docs/benchmarks.md, stop 41.) */
     const bool pixel_test = binned && frame->depth_convention != DC_DEPTH_POSITION && !frame->rest_decals;
     float3 p;
-    if (!dc_reconstruct(frame, depth_plane, position_plane, x, y, &p)) return (float3)(0.0f);
+    if (!dc_reconstruct_from(frame, depth, position_plane, x, y, &p)) return (float3)(0.0f);
+#ifdef DC_POINT_SHADING_ONLY
+    const float4 in0 = in0_loaded;
+#else
+    (void)in0_loaded; /* (loaded early, the filter's kernels ran 1-2 % slower on an H100) */
     const float4 in0 = surface0[i];
+#endif
     const float4 in1 = has_group1 ? surface1[i] : (float4)(0.0f);
     const float4 in2 = has_group2 ? surface2[i] : (float4)(0.0f);
     /* the light terms' loads before the decals, so that their latency hides behind the decal loop */
@@ -518,13 +525,22 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
     /* the tile's list before the pixel's point: tiles no decal reaches read nothing but it (the
      * whole group returns, before the list's staging and its barrier) */
     if (begin >= end) return;
+    const bool in_frame = x < frame->width && y < frame->height;
+    const size_t i = in_frame ? (size_t)y * frame->width + x : 0;
 #ifdef DC_POINT_SHADING_ONLY
+    /* The pixel's depth and first surface plane are loaded before the list is staged, whatever its
+     * depth: the loads wait alongside the staging's loads and barrier, not after them (H100: the
+     * point kernels 1-2 % faster, docs/benchmarks.md). */
+    const float depth = in_frame ? dc_pixel_depth(frame, depth_plane, x, y) : 0.0f;
+    const float4 in0 = in_frame ? surface0[i] : (float4)(0.0f);
     const int staged_count = binned ? dc_stage_list(staged, tile_decals, decal_bounds, begin, end) : 0;
+    if (!in_frame) return;
 #else
     const int staged_count = 0;
+    if (!in_frame) return;
+    const float depth = dc_pixel_depth(frame, depth_plane, x, y);
+    const float4 in0 = (float4)(0.0f); /* read after the point's reconstruction (dc_shade_listed_pixel) */
 #endif
-    if (x >= frame->width || y >= frame->height) return;
-    const size_t i = (size_t)y * frame->width + x;
     /* Every pixel of a listed tile writes its beauty change, 0 where nothing changed: the host adds
      * the changes of exactly those tiles (beauty_transfer.hpp), and the kernel never reads the beauty.
      * With one light term that no neighbour reads (change_in_light), the change takes the place of
@@ -533,7 +549,7 @@ inline void dc_shade_pixel(__constant const DcFrame* frame, __global const float
                                                 original0, original1, clean_depths, decals, textures, texels,
                                                 tile_decals, decal_bounds, binned, begin, end, staged, staged_count,
                                                 mask_weights, occlusion_maps, light, rest_points, rest_frames, variant,
-                                                x, y);
+                                                x, y, depth, in0);
     if (frame->beauty) vstore3(change, i, frame->change_in_light ? light : beauty);
 }
 
