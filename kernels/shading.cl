@@ -329,9 +329,9 @@ DC_INLINE DcSurface dc_point_decal(__constant const DcFrame* frame, __global con
 }
 
 /* A pixel whose list [begin, end) is not empty (its tile's, binned; every decal, unbinned), with
- * its depth sample (and in the point program its first surface plane's value) as loaded: composites the list into the surface
- * planes and returns the beauty's change (dc_beauty_change; 0 where nothing changed or without a
- * beauty). */
+ * its depth sample (and in the point program its first surface plane's value) as loaded:
+ * composites the list into the surface planes and returns the beauty's change (dc_beauty_change; 0
+ * where nothing changed or without a beauty). */
 inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global const float* depth_plane,
                                     __global const float4* position_plane, __global float4* surface0,
                                     __global float4* surface1, __global float4* surface2,
