@@ -26,7 +26,7 @@ endforeach()
 # What the compiled objects need at link time; only OpenCL, OpenEXR (Imath) and GLM reach the
 # public headers.
 set(DECALCOMP_PUBLIC_DEPENDENCIES decalcomp_opencl_public OpenEXR::OpenEXR glm::glm)
-set(DECALCOMP_PRIVATE_DEPENDENCIES OpenEXR::OpenEXRCore OpenImageIO::OpenImageIO tinyobjloader::tinyobjloader
+set(DECALCOMP_PRIVATE_DEPENDENCIES OpenEXR::OpenEXRCore OpenImageIO::OpenImageIO tinyobjloader::tinyobjloader fmt::fmt
     OpenMP::OpenMP_CXX Threads::Threads deflate)
 
 # decalcomp_opencl without the build tree's own target name: the same definitions, exported.

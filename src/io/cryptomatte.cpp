@@ -145,7 +145,7 @@ std::optional<std::uint32_t> parseHex(const std::string& s) {
 std::string shortDump(const json& v) {
     constexpr std::size_t kMax = 40;
     std::string text = v.dump();
-    if (text.size() > kMax) text = text.substr(0, kMax) + "...";
+    if (text.size() > kMax) text.replace(kMax, std::string::npos, "...");
     return text;
 }
 

@@ -1,7 +1,8 @@
 #!/bin/sh
 # The GPU figures the open speed targets need (issues 9, 14 and 15), in one device call.
 # On the development machine, in the project root:
-#   sh ../shared/gpu/prepare.sh && cp build/decalcomp-bench .gpu/ && cp tools/bench/gpu-round.sh .gpu/
+#   sh ../shared/gpu/prepare.sh libfmt9 && cp build/decalcomp-bench .gpu/ && cp tools/bench/gpu-round.sh .gpu/
+# (libfmt9: the bench links Debian's shared fmt, which the GPU machine lacks.)
 # then the device tool with carry [".gpu"] and: sh .gpu/gpu-round.sh
 # The tree that travels holds at most 64 MiB and data/ alone is about 60: the bench needs none of
 # it, so take data/ out of the index for the call and put it back after (the files stay on disk):
