@@ -55,6 +55,9 @@ set_target_properties(decalcomp_library_static PROPERTIES EXPORT_NAME decalcomp_
 install(TARGETS decalcomp_library_shared decalcomp_opencl_public EXPORT decalcompTargets
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS decalcomp_library_static EXPORT decalcompStaticTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+# OpenImageIO's module (src/images/image_codecs.hpp), found by the CLI and libdecalcomp.so relative
+# to themselves, and by programs linking libdecalcomp.a at this path or $DECALCOMP_IMAGE_MODULE.
+install(TARGETS decalcomp_images LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/decalcomp)
 install(FILES ${DECALCOMP_PUBLIC_HEADERS} ${DECALCOMP_GENERATED_INCLUDE}/decalcomp/version.hpp
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/decalcomp)
 install(TARGETS decalcomp RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

@@ -1,9 +1,6 @@
 // Contact sheets: thumbnails filtered down by OpenImageIO, tiled into one sRGB PNG.
 #include "decalcomp/contact_sheet.hpp"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -13,6 +10,7 @@
 #include "decalcomp/error.hpp"
 #include "decalcomp/temporary_files.hpp"
 #include "decalcomp/textures.hpp"
+#include "images/image_codecs.hpp"
 
 namespace decalcomp {
 
@@ -30,23 +28,19 @@ Thumbnail makeThumbnail(const GBuffer& gbuffer, int long_side) {
     const auto albedo = gbuffer.planes.find(Attribute::Albedo);
     if (w <= 0 || h <= 0 || albedo == gbuffer.planes.end()) return thumb;
     const Plane& plane = albedo->second;
-    OIIO::ImageBuf full(OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT));
     std::vector<float> rgb(std::size_t(w) * h * 3, 0.0f);
     for (std::size_t p = 0; p < std::size_t(w) * h; ++p)
         for (int c = 0; c < std::min(3, plane.components); ++c) {
             const float v = plane.at(p, c);
             rgb[p * 3 + c] = std::isfinite(v) ? v : 0.0f;
         }
-    full.set_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, rgb.data());
     const double scale = std::min(1.0, double(std::max(1, long_side)) / std::max(w, h));
     thumb.width = std::max(1, int(std::lround(w * scale)));
     thumb.height = std::max(1, int(std::lround(h * scale)));
     // Filtered in linear light (the albedo is scene-linear), encoded to sRGB afterwards.
-    const OIIO::ImageBuf small =
-        scale < 1.0 ? OIIO::ImageBufAlgo::resize(full, "", 0.0f, OIIO::ROI(0, thumb.width, 0, thumb.height, 0, 1, 0, 3))
-                    : full;
-    std::vector<float> linear(std::size_t(thumb.width) * thumb.height * 3);
-    small.get_pixels(OIIO::ROI(0, thumb.width, 0, thumb.height, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, linear.data());
+    const std::vector<float> linear = scale < 1.0 ? images::imageCodecs(ErrorKind::Output, "contact sheet thumbnail")
+                                                        .resize(rgb, w, h, 3, thumb.width, thumb.height)
+                                                  : rgb;
     thumb.rgb.resize(linear.size());
     for (std::size_t i = 0; i < linear.size(); ++i) thumb.rgb[i] = linearToSrgbByte(linear[i]);
     return thumb;
@@ -74,11 +68,9 @@ void ContactSheet::write(const std::string& path) const {
     }
     const std::string tmp = temporaryPathFor(path);
     const std::string opening_name = createTemporary(tmp, path);
-    auto out = OIIO::ImageOutput::create("png");
-    const OIIO::ImageSpec spec(out_w, out_h, 3, OIIO::TypeDesc::UINT8);
-    if (!out || !out->open(opening_name, spec) || !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) ||
-        !out->close()) {
-        const std::string why = out ? out->geterror() : OIIO::geterror();
+    const images::Codecs& codecs = images::imageCodecs(ErrorKind::Output, path);
+    if (const std::string why = codecs.write(opening_name, images::png8(out_w, out_h, 3, pixels.data()));
+        !why.empty()) {
         discardTemporary(tmp);
         throw outputError(fmt::format("{}: cannot write the contact sheet: {}", path, why));
     }

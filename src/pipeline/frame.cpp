@@ -4,13 +4,13 @@
 
 #include <algorithm>
 
-
 #include "decalcomp/error.hpp"
 #include "decalcomp/frame_region.hpp"
 #include "decalcomp/gbuffer_exr.hpp"
 #include "decalcomp/header_camera.hpp"
 #include "decalcomp/masks.hpp"
 #include "decalcomp/pipeline.hpp"
+#include "images/image_codecs.hpp"
 #include "pipeline/frame_pixel_filter.hpp"
 #include "pipeline/frame_texture_space.hpp"
 
@@ -220,6 +220,9 @@ void Frame::stageOutputs() {
         pending.push_back({&files_[std::size_t(file)], path});
     }
     const GBuffer& before = before_ ? *before_ : gbuffer_;
+    // The preview is written to an unnamed temporary: an image module that cannot load is named
+    // by the preview's own path, before anything is staged.
+    if (!targets_.preview.empty()) images::imageCodecs(ErrorKind::Output, targets_.preview);
     staged_ = stageOutputsTogether(
         pending, targets_.preview.empty() ? nullptr : &targets_.preview, [&](const std::string& preview_path) {
             writePreview(before, gbuffer_, camera_, preview_path, beauty_.before(), beauty_.after());

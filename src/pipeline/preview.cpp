@@ -2,19 +2,19 @@
 // the frames have a normal plane, a second row with a simple lit view of each, so a person can see
 // what a normal-mapped decal did (the albedo row alone does not show the normals), and, when the
 // beauty was rebuilt, a last row with the beauty before and after, tone-mapped for display.
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
-#include <glm/glm.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <glm/glm.hpp>
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/geometry.hpp"
 #include "decalcomp/normal_codec.hpp"
 #include "decalcomp/pipeline.hpp"
 #include "decalcomp/textures.hpp"
+#include "images/image_codecs.hpp"
 
 namespace decalcomp {
 
@@ -68,12 +68,12 @@ void writePreview(const GBuffer& before, const GBuffer& after, const Camera& cam
         putBeauty(*beauty_before, 0);
         putBeauty(*beauty_after, w + gap);
     }
-    auto out = OIIO::ImageOutput::create("png");
-    OIIO::ImageSpec spec(out_w, out_h, 3, OIIO::TypeDesc::UINT8);
-    if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close()) {
+    const images::Codecs& codecs = images::imageCodecs(ErrorKind::Output, path);
+    if (const std::string failure = codecs.write(path, images::png8(out_w, out_h, 3, pixels.data()));
+        !failure.empty()) {
         std::error_code ec;
         std::filesystem::remove(path, ec);
-        throw outputError(fmt::format("{}: cannot write preview PNG: {}", path, out ? out->geterror() : OIIO::geterror()));
+        throw outputError(fmt::format("{}: cannot write preview PNG: {}", path, failure));
     }
 }
 

@@ -1,7 +1,7 @@
-// OpenColorIO through OpenImageIO's ColorConfig: which spaces a config has, and conversions.
+// OpenColorIO through OpenImageIO's ColorConfig (in the image module): which spaces a config has,
+// and conversions.
 #include "textures/colour_config.hpp"
 
-#include <OpenImageIO/color.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -10,7 +10,7 @@
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/input_file.hpp"
-#include "io/exr_layout.hpp"
+#include "images/image_codecs.hpp"
 
 namespace decalcomp {
 namespace {
@@ -20,17 +20,10 @@ std::string lowered(std::string s) {
     return s;
 }
 
-// OpenColorIO's reason on one line, or a placeholder when it gave none.
-std::string reason(const std::string& message) {
-    const std::string line = io::oneLine(message);
-    return line.empty() ? "unknown error" : line;
-}
-
 }  // namespace
 
 struct ColourConfig::Impl {
-    explicit Impl(const std::string& file) : config(file) {}
-    OIIO::ColorConfig config;
+    std::unique_ptr<images::ColourConfigFile> config;
 };
 
 ColourConfig::ColourConfig(std::string file, std::unique_ptr<Impl> impl) : file_(std::move(file)), impl_(std::move(impl)) {}
@@ -48,15 +41,15 @@ std::shared_ptr<const ColourConfig> ColourConfig::open(const std::string& file, 
         throw inputError(fmt::format("{}: colour spaces need an OpenColorIO config: give --ocio FILE or set $OCIO",
                                      asked_by));
     requireInputFile(path, "OpenColorIO config");
-    auto impl = std::make_unique<Impl>(path);
-    if (impl->config.has_error() || impl->config.getNumColorSpaces() <= 0) {
-        const std::string why = impl->config.has_error() ? reason(impl->config.geterror()) : "it defines no colour spaces";
-        throw inputError(fmt::format("{}: cannot use the OpenColorIO config: {}", path, why));
-    }
+    const images::Codecs& codecs = images::imageCodecs(ErrorKind::Input, path);
+    auto impl = std::make_unique<Impl>();
+    std::string why;
+    impl->config = codecs.openColourConfig(path, why);
+    if (!impl->config) throw inputError(fmt::format("{}: cannot use the OpenColorIO config: {}", path, why));
     return std::shared_ptr<const ColourConfig>(new ColourConfig(path, std::move(impl)));
 }
 
-std::vector<std::string> ColourConfig::spaceNames() const { return impl_->config.getColorSpaceNames(); }
+std::vector<std::string> ColourConfig::spaceNames() const { return impl_->config->spaceNames(); }
 
 bool ColourConfig::hasSpace(const std::string& name) const {
     const std::vector<std::string> names = spaceNames();
@@ -73,14 +66,10 @@ std::string ColourConfig::firstSpaceOf(const std::vector<std::string>& candidate
 
 void ColourConfig::convert(std::vector<glm::vec4>& texels, const std::string& from, const std::string& to) const {
     if (from == to || texels.empty()) return;
-    const OIIO::ColorProcessorHandle processor = impl_->config.createColorProcessor(from, to);
-    if (!processor)
-        throw inputError(fmt::format("{}: OpenColorIO cannot convert '{}' to '{}': {}", file_, from, to,
-                                     reason(impl_->config.geterror())));
-    if (processor->isNoOp()) return;
-    // One row of RGBA texels: OpenColorIO converts the first three channels and keeps alpha.
-    processor->apply(&texels[0].r, int(texels.size()), 1, 4, sizeof(float), sizeof(glm::vec4),
-                     OIIO::stride_t(sizeof(glm::vec4) * texels.size()));
+    static_assert(sizeof(glm::vec4) == 4 * sizeof(float), "texels are four packed floats");
+    const std::string failure = impl_->config->convert(&texels[0].r, texels.size(), from, to);
+    if (!failure.empty())
+        throw inputError(fmt::format("{}: OpenColorIO cannot convert '{}' to '{}': {}", file_, from, to, failure));
 }
 
 }  // namespace decalcomp

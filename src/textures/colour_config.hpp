@@ -1,7 +1,7 @@
 #pragma once
 // Colour management of decal textures: an OpenColorIO config read through OpenImageIO's
-// ColorConfig, and the conversion of decoded texels from a texture's colour space to the
-// scene's working space (docs/colour.md).
+// ColorConfig (in the image module, images/image_codecs.hpp), and the conversion of decoded
+// texels from a texture's colour space to the scene's working space (docs/colour.md).
 #include <glm/vec4.hpp>
 
 #include <memory>

@@ -1,6 +1,5 @@
 // Decodes decal textures to linear, premultiplied RGBA float (the layout Texture2D promises).
 #include <OpenEXR/ImfVersion.h>
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
 #include <array>
@@ -14,6 +13,7 @@
 #include "decalcomp/input_file.hpp"
 #include "decalcomp/memory_limit.hpp"
 #include "decalcomp/textures.hpp"
+#include "images/image_codecs.hpp"
 #include "io/exr_plausibility.hpp"
 #include "textures/colour_config.hpp"
 #include "textures/quiet_stderr.hpp"
@@ -28,23 +28,15 @@ constexpr std::int64_t kMaxTexels = std::int64_t(1) << 28;
 // out near 1032:1), so a header claiming more is corrupt or hostile.
 constexpr std::uint64_t kMaxExpansion = 4096;
 
-// OIIO messages may span lines; our errors are one line.
-std::string oneLine(std::string s) {
-    while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
-    for (char& c : s)
-        if (c == '\n' || c == '\r') c = ' ';
-    return s.empty() ? "unknown error" : s;
-}
-
 // Which file channels feed R, G, B and A. alpha = -1 means opaque.
 struct ChannelLayout {
     std::array<int, 3> colour{0, 0, 0};
     int alpha = -1;
 };
 
-ChannelLayout channelLayout(const OIIO::ImageSpec& spec) {
+ChannelLayout channelLayout(const images::ImageHeader& spec) {
     ChannelLayout layout;
-    const int n = spec.nchannels;
+    const int n = spec.channels;
     if (n == 1) return layout;  // grey, opaque
     if (n == 2) {               // grey + alpha
         layout.alpha = 1;
@@ -58,10 +50,8 @@ ChannelLayout channelLayout(const OIIO::ImageSpec& spec) {
     return layout;
 }
 
-bool isIntegerFormat(const OIIO::TypeDesc& t) { return !t.is_floating_point(); }
-
 // Whether the stored colour still has to be multiplied by alpha.
-bool needsPremultiply(const OIIO::ImageSpec& spec, AlphaMode mode) {
+bool needsPremultiply(const images::ImageReader& in, AlphaMode mode) {
     switch (mode) {
         case AlphaMode::Straight:
             return true;
@@ -72,8 +62,8 @@ bool needsPremultiply(const OIIO::ImageSpec& spec, AlphaMode mode) {
     }
     // 8/16-bit formats (PNG, TGA...) carry straight alpha by convention; OpenEXR is premultiplied
     // unless the file says otherwise (the Blender samples write decal:alpha = "straight").
-    if (isIntegerFormat(spec.format)) return true;
-    return spec.get_string_attribute("decal:alpha") == "straight";
+    if (in.header().integer) return true;
+    return in.stringAttribute("decal:alpha") == "straight";
 }
 
 // Per-value decoders: integer colour is sRGB-encoded, float colour is already linear.
@@ -86,11 +76,11 @@ std::vector<float> srgbTable() {
 }
 
 template <typename T>
-std::vector<T> readPixels(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
-                          const std::string& path) {
-    std::vector<T> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
-    if (!in.read_image(0, 0, 0, spec.nchannels, type, pixels.data()))
-        throw inputError(fmt::format("cannot read '{}': {}", path, oneLine(in.geterror())));
+std::vector<T> readPixels(images::ImageReader& in, images::Sample as, const std::string& path) {
+    const images::ImageHeader& spec = in.header();
+    std::vector<T> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.channels));
+    if (const std::string failure = in.read(as, pixels.data()); !failure.empty())
+        throw inputError(fmt::format("cannot read '{}': {}", path, failure));
     return pixels;
 }
 
@@ -114,32 +104,33 @@ void decodeTexels(const std::vector<T>& raw, int channels, const ChannelLayout& 
 // Reads stored integers natively so the sRGB decode is a table lookup of the exact curve.
 // Data textures (normal maps, ORM) skip the sRGB curve: stored values are the data, normalised.
 template <typename T>
-void decodeIntegerNative(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
-                         const ChannelLayout& layout, bool premultiply, TextureContent content, Texture2D& tex) {
-    const std::vector<T> raw = readPixels<T>(in, spec, type, tex.source);
+void decodeIntegerNative(images::ImageReader& in, images::Sample as, const ChannelLayout& layout, bool premultiply,
+                         TextureContent content, Texture2D& tex) {
+    const std::vector<T> raw = readPixels<T>(in, as, tex.source);
     const float maxValue = float(std::numeric_limits<T>::max());
     std::vector<float> table = srgbTable<T>();
     if (content == TextureContent::Data)
         for (std::size_t v = 0; v < table.size(); ++v) table[v] = float(v) / maxValue;
     decodeTexels(
-        raw, spec.nchannels, layout, premultiply, [&](T v) { return table[v]; },
+        raw, in.header().channels, layout, premultiply, [&](T v) { return table[v]; },
         [&](T v) { return float(v) / maxValue; }, tex.texels);
 }
 
-void checkSpec(const OIIO::ImageSpec& spec, const std::string& path) {
+void checkSpec(const images::ImageHeader& spec, const std::string& path) {
     if (spec.deep) throw inputError(fmt::format("'{}': deep images are not supported as textures", path));
     if (spec.depth > 1) throw inputError(fmt::format("'{}': 3D images are not supported as 2D textures", path));
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    if (spec.width <= 0 || spec.height <= 0 || spec.channels <= 0)
         throw inputError(
-            fmt::format("'{}': empty image ({}x{}, {} channels)", path, spec.width, spec.height, spec.nchannels));
+            fmt::format("'{}': empty image ({}x{}, {} channels)", path, spec.width, spec.height, spec.channels));
     if (std::int64_t(spec.width) * std::int64_t(spec.height) > kMaxTexels)
         throw inputError(fmt::format("'{}': image too large for a texture ({}x{})", path, spec.width, spec.height));
     const std::uint64_t texels = std::uint64_t(spec.width) * std::uint64_t(spec.height);
     // The file's samples as read, plus the float RGBA texels they become.
-    const std::uint64_t decoded = texels * (std::uint64_t(spec.nchannels) * spec.format.size() + sizeof(glm::vec4));
+    const std::uint64_t sample_bytes = std::uint64_t(spec.bytes_per_sample);
+    const std::uint64_t decoded = texels * (std::uint64_t(spec.channels) * sample_bytes + sizeof(glm::vec4));
     std::error_code ec;
     const std::uint64_t stored = std::filesystem::file_size(path, ec);
-    if (!ec && texels * spec.format.size() > stored * kMaxExpansion)
+    if (!ec && texels * sample_bytes > stored * kMaxExpansion)
         throw inputError(fmt::format("'{}': header claims {}x{} texels, which {} of file cannot hold; the file is "
                                      "corrupt or truncated",
                                      path, spec.width, spec.height, readableBytes(stored)));
@@ -157,19 +148,19 @@ void requirePlausibleExrTexture(const std::string& path) {
 
 // A colour-managed texture: stored values as they are (normalised integers, floats), straight
 // alpha, so OpenColorIO sees the encoded colour it expects; premultiplied after conversion.
-void decodeManaged(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, const ChannelLayout& layout,
-                   bool file_is_straight, const TextureColour& colour, Texture2D& tex) {
+void decodeManaged(images::ImageReader& in, const ChannelLayout& layout, bool file_is_straight,
+                   const TextureColour& colour, Texture2D& tex) {
     // Which space the stored values are in is known from the header: fail before reading pixels.
-    const bool integer = isIntegerFormat(spec.format);
+    const bool integer = in.header().integer;
     const std::string& from = integer ? colour.integer_space : colour.float_space;
     if (from.empty())
         throw inputError(fmt::format("'{}': no colour space known for {} texture ({} names none of the usual ones): "
                                      "give its 'colorspace', or the scene's texture_colorspaces.{}",
                                      tex.source, integer ? "an integer" : "a float", colour.config->file(),
                                      integer ? "integer" : "float"));
-    const std::vector<float> raw = readPixels<float>(in, spec, OIIO::TypeDesc::FLOAT, tex.source);
+    const std::vector<float> raw = readPixels<float>(in, images::Sample::Float, tex.source);
     decodeTexels(
-        raw, spec.nchannels, layout, false, [](float v) { return v; }, [](float v) { return v; }, tex.texels);
+        raw, in.header().channels, layout, false, [](float v) { return v; }, [](float v) { return v; }, tex.texels);
     if (!file_is_straight)  // a premultiplied float file: the colour itself, before converting
         for (glm::vec4& t : tex.texels)
             if (t.a > 0.0f) t = glm::vec4(glm::vec3(t) / t.a, t.a);
@@ -181,16 +172,15 @@ Texture2D decodeTexture(const std::string& path, AlphaMode alpha, TextureContent
                         const TextureColour* colour) {
     requirePlausibleExrTexture(path);
 
-    // Without this hint OIIO premultiplies 8-bit straight-alpha PNG/TGA on read.
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    auto in = OIIO::ImageInput::open(path, &config);
-    if (!in) throw inputError(fmt::format("cannot open '{}': {}", path, oneLine(OIIO::geterror())));
+    const images::Codecs& codecs = images::imageCodecs(ErrorKind::Input, fmt::format("texture '{}'", path));
+    std::string failure;
+    const std::unique_ptr<images::ImageReader> in = codecs.open(path, /*straight_alpha=*/true, failure);
+    if (!in) throw inputError(fmt::format("cannot open '{}': {}", path, failure));
 
-    const OIIO::ImageSpec spec = in->spec();
+    const images::ImageHeader& spec = in->header();
     checkSpec(spec, path);
     const ChannelLayout layout = channelLayout(spec);
-    const bool premultiply = needsPremultiply(spec, alpha);
+    const bool premultiply = needsPremultiply(*in, alpha);
 
     Texture2D tex;
     tex.source = path;
@@ -199,20 +189,19 @@ Texture2D decodeTexture(const std::string& path, AlphaMode alpha, TextureContent
     tex.texels.resize(size_t(spec.width) * size_t(spec.height));
 
     if (colour && content == TextureContent::Colour) {
-        decodeManaged(*in, spec, layout, premultiply, *colour, tex);
-    } else if (spec.format == OIIO::TypeDesc::UINT8) {
-        decodeIntegerNative<std::uint8_t>(*in, spec, OIIO::TypeDesc::UINT8, layout, premultiply, content, tex);
-    } else if (spec.format == OIIO::TypeDesc::UINT16) {
-        decodeIntegerNative<std::uint16_t>(*in, spec, OIIO::TypeDesc::UINT16, layout, premultiply, content, tex);
+        decodeManaged(*in, layout, premultiply, *colour, tex);
+    } else if (spec.stored == images::Sample::UInt8) {
+        decodeIntegerNative<std::uint8_t>(*in, images::Sample::UInt8, layout, premultiply, content, tex);
+    } else if (spec.stored == images::Sample::UInt16) {
+        decodeIntegerNative<std::uint16_t>(*in, images::Sample::UInt16, layout, premultiply, content, tex);
     } else {
         // Other integer types arrive normalised to [0,1] and are still sRGB; float stays linear.
-        const bool srgb = isIntegerFormat(spec.format) && content == TextureContent::Colour;
-        const std::vector<float> raw = readPixels<float>(*in, spec, OIIO::TypeDesc::FLOAT, path);
+        const bool srgb = spec.integer && content == TextureContent::Colour;
+        const std::vector<float> raw = readPixels<float>(*in, images::Sample::Float, path);
         decodeTexels(
-            raw, spec.nchannels, layout, premultiply, [&](float v) { return srgb ? srgbToLinear(v) : v; },
+            raw, spec.channels, layout, premultiply, [&](float v) { return srgb ? srgbToLinear(v) : v; },
             [](float v) { return v; }, tex.texels);
     }
-    in->close();
     return tex;
 }
 
@@ -221,7 +210,7 @@ Texture2D decodeTexture(const std::string& path, AlphaMode alpha, TextureContent
 Texture2D loadTexture2D(const std::string& path, AlphaMode alpha, TextureContent content,
                         const TextureColour* colour) {
     requireInputFile(path, "texture");
-    const QuietStderr quiet;  // libpng's own lines; its failures come back through OIIO's error
+    const QuietStderr quiet;  // libpng's own lines; its failures come back through OpenImageIO's error
     return decodeTexture(path, alpha, content, colour);
 }
 

@@ -45,9 +45,22 @@ case $mode in
   *) echo "unknown mode $mode" >&2; exit 2 ;;
 esac
 
+# OpenImageIO's module (the sample's textures need it) comes from the installed tree, not the build
+# tree: the CLI and libdecalcomp.so find it relative to themselves; a program linking the static
+# library finds it at the configured install path or, installed elsewhere as here, is told.
+module=$(cd "$prefix" && pwd -P)/${libdir#./}/decalcomp/decalcomp-images.so
+[ -f "$module" ] || { echo "$module: not installed" >&2; exit 1; }
+[ "$mode" = cmake-static ] && export DECALCOMP_IMAGE_MODULE="$module"
 sample=$source/data/sample
-"$consumer" "$sample/gbuffer.exr" "$sample/scene.json" "$sample/camera.json" "$work/library.exr"
-"$prefix/bin/decalcomp" composite "$sample/gbuffer.exr" --decals "$sample/scene.json" \
-  --camera "$sample/camera.json" --device cpu -o "$work/cli.exr" > "$work/cli.log"
+LD_DEBUG=files "$consumer" "$sample/gbuffer.exr" "$sample/scene.json" "$sample/camera.json" "$work/library.exr" \
+  2> "$work/library.ld"
+LD_DEBUG=files "$prefix/bin/decalcomp" composite "$sample/gbuffer.exr" --decals "$sample/scene.json" \
+  --camera "$sample/camera.json" --device cpu -o "$work/cli.exr" > "$work/cli.log" 2> "$work/cli.ld"
+for log in "$work/library.ld" "$work/cli.ld"; do
+  grep -q "$module" "$log" || { echo "$log: the image module was not loaded from $module" >&2; exit 1; }
+  if grep -q "$(cd "$build" && pwd -P)/decalcomp-images.so" "$log"; then
+    echo "$log: the build tree's image module was loaded" >&2; exit 1
+  fi
+done
 cmp "$work/library.exr" "$work/cli.exr"
 echo "install ($mode): the consumer's output is the CLI's, byte for byte"

@@ -6,8 +6,8 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -27,6 +27,7 @@
 #include "decalcomp/pipeline.hpp"
 #include "decalcomp/scene.hpp"
 #include "decalcomp/synth.hpp"
+#include "images/image_codecs.hpp"
 #include "support/test_support.hpp"
 
 namespace decalcomp::test {
@@ -108,13 +109,9 @@ inline std::string writeSequence(const std::filesystem::path& dir, const std::ve
 
 // A 4x4 opaque RGBA8 PNG of one colour.
 inline void writeSolidPng(const std::string& path, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
-    auto out = OIIO::ImageOutput::create(path);
-    OIIO::ImageSpec spec(4, 4, 4, OIIO::TypeDesc::UINT8);
     std::vector<std::uint8_t> px;
     for (int i = 0; i < 16; ++i) px.insert(px.end(), {r, g, b, 255});
-    out->open(path, spec);
-    out->write_image(OIIO::TypeDesc::UINT8, px.data());
-    out->close();
+    EXPECT_EQ(images::imageCodecs(ErrorKind::Output, path).write(path, images::png8(4, 4, 4, px.data())), "") << path;
 }
 
 // A static decal on the floor, one that lives frames 3-6 with fades, and one keyframed across

@@ -1,20 +1,19 @@
 #include "support/test_support.hpp"
 
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <atomic>
 #include <cstdio>
 #include <random>
 #include <stdexcept>
-#include <unistd.h>
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_file.hpp"
 #include "decalcomp/scene.hpp"
+#include "images/image_codecs.hpp"
 
 namespace decalcomp::test {
 
@@ -119,14 +118,20 @@ std::size_t occurrences(const std::string& text, const std::string& needle) {
 }
 
 Png readPng(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    EXPECT_TRUE(in) << path;
+    std::string failure;
+    const auto in = images::imageCodecs(ErrorKind::Input, path).open(path, /*straight_alpha=*/false, failure);
+    EXPECT_TRUE(in) << path << ": " << failure;
     Png png;
     if (!in) return png;
-    png.width = in->spec().width;
-    png.height = in->spec().height;
+    const int channels = in->header().channels;
+    png.width = in->header().width;
+    png.height = in->header().height;
+    std::vector<std::uint8_t> stored(std::size_t(png.width) * png.height * std::size_t(channels));
+    EXPECT_EQ(in->read(images::Sample::UInt8, stored.data()), "") << path;
+    EXPECT_GE(channels, 3) << path;
     png.rgb.resize(std::size_t(png.width) * png.height * 3);
-    EXPECT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, png.rgb.data()));
+    for (std::size_t p = 0; p < std::size_t(png.width) * png.height && channels >= 3; ++p)
+        for (std::size_t c = 0; c < 3; ++c) png.rgb[p * 3 + c] = stored[p * std::size_t(channels) + c];
     return png;
 }
 
