@@ -8,8 +8,8 @@
 #   sh tools/bench-batch/gpu-runtime.sh OUT_DIR        (e.g. .gpu-batch)
 #
 # Into OUT_DIR it writes:
-#   bin/   stripped decalcomp, decalcomp-gbuffer-gen, decalcomp-bench-batch (from $BIN, default
-#          build/) and oiiotool (from /usr/bin; `openimageio-tools` is installed if missing);
+#   bin/   stripped decalcomp, decalcomp-gbuffer-gen, decalcomp-bench-batch, decalcomp-images.so
+#          (from $BIN, default build/) and oiiotool (from /usr/bin; `openimageio-tools` is installed if missing);
 #   lib/   every shared library those need, except glibc's own, libstdc++, libgcc_s and
 #          libOpenCL.so.1 (the host's are used). The heavy plugin libraries ($STUBS) are replaced
 #          by generated stubs: same SONAME, every dynamic symbol the real library defines with the
@@ -95,8 +95,9 @@ defsyms() {
 }
 
 # 1. binaries
-for b in decalcomp decalcomp-gbuffer-gen decalcomp-bench-batch; do
-  [ -x "$BIN/$b" ] || { echo "gpu-runtime.sh: $BIN/$b is missing (set BIN)" >&2; exit 1; }
+# decalcomp-images.so, OpenImageIO's module, goes beside the CLI, where the CLI looks for it first.
+for b in decalcomp decalcomp-gbuffer-gen decalcomp-bench-batch decalcomp-images.so; do
+  [ -f "$BIN/$b" ] || { echo "gpu-runtime.sh: $BIN/$b is missing (set BIN)" >&2; exit 1; }
   cp "$BIN/$b" "$OUT/bin/$b"
 done
 cp "$OIIOTOOL_SRC" "$OUT/bin/oiiotool"
