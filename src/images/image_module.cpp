@@ -2,9 +2,10 @@
 #include <dlfcn.h>
 #include <fmt/format.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <mutex>
-#include <optional>
+#include <vector>
 
 #include "images/image_codecs.hpp"
 #include "images/image_module_paths.hpp"
