@@ -23,11 +23,6 @@ constexpr double kWeightRounding = 4e-4;
 // Two candidates whose texels differ by less than this give the same bake (float vs double).
 constexpr double kSameValue = 1e-5;
 
-std::optional<glm::dvec3> straight(const std::optional<glm::dvec4>& texel) {
-    if (!texel || !(texel->a > 0.0)) return std::nullopt;
-    return glm::dvec3(*texel) / texel->a;
-}
-
 glm::dvec4 premultiplied(const glm::dvec3& v, double c) { return glm::dvec4(v * c, c); }
 
 double segmentDistance(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {

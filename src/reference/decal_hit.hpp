@@ -19,6 +19,9 @@ struct Footprint {
     glm::dvec3 dx{0.0}, dy{0.0};
 };
 
+// A premultiplied texel's straight colour; nullopt where it has no coverage (materials.cpp).
+std::optional<glm::dvec3> straight(const std::optional<glm::dvec4>& texel);
+
 // A decal at one world point: the kind's falloff and fades, and where its textures are looked up
 // (docs/conventions.md "Decals").
 struct DecalHit {

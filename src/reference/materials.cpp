@@ -3,15 +3,16 @@
 #include <cmath>
 
 #include "decalcomp/reference.hpp"
+#include "reference/decal_hit.hpp"
 
 namespace decalcomp::reference {
-
-namespace {
 
 std::optional<glm::dvec3> straight(const std::optional<glm::dvec4>& texel) {
     if (!texel || !(texel->a > 0.0)) return std::nullopt;
     return glm::dvec3(*texel) / texel->a;
 }
+
+namespace {
 
 // The normal map's detail in the decal's image frame, or nullopt when it is unusable.
 std::optional<glm::dvec3> normalDetail(const glm::dvec3& rgb, double strength) {
