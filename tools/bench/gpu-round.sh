@@ -168,6 +168,40 @@ for round in $(seq "${AB_ROUNDS:-2}"); do
 done
 }
 
+# Issue 9's batch bar: `decalcomp batch` against `--io-only` on the same 32 frames of 1080p with
+# 1,000 decals, and `--io-only` on the batch's own outputs (the floor of any batch that writes
+# them), alternated three times, then one `--timing` run (not in the default SECTIONS;
+# BATCH_FRAMES and BATCH_DEVICE change the 32 frames and the device, e.g. for a try on PoCL). Needs the
+# batch's runtime in .gpu-batch (tools/bench-batch/gpu-runtime.sh .gpu-batch, then
+# cp /usr/bin/time .gpu-batch/: the host has none), carried with .gpu. Its lines go to batch.log.
+section_batch() {
+LL=$(sh .gpu-batch/unpack.sh /tmp/rt | tail -1)
+RT=/tmp/rt/bin
+IN='/tmp/bb/in/f.####.exr'
+W='/tmp/bb/w/f.####.exr'
+N=${BATCH_FRAMES:-32}
+SCENE="--decals /tmp/bb/scene/scene.json --device ${BATCH_DEVICE:-nvidia}"
+batch() { LD_LIBRARY_PATH=$LL $E $RT/decalcomp batch "$@" >>"$OUT/batch.log" 2>&1; }
+# shellcheck disable=SC2086 # $E: a command and its arguments
+timed() { label=$1; shift; rm -rf /tmp/bb/w; LD_LIBRARY_PATH=$LL .gpu-batch/time -f "$label %e s %M KB %P %U u" \
+    $E $RT/decalcomp batch "$@" >>"$OUT/batch.log" 2>&1; }
+LD_LIBRARY_PATH=$LL MAKE_ONLY=1 BIN=$RT OIIOTOOL=$RT/oiiotool sh tools/bench-batch/run.sh /tmp/bb "$N" nvidia 1 1920x1080 1000 \
+    >>"$OUT/batch.log" 2>&1
+# shellcheck disable=SC2086
+batch "$IN" -o '/tmp/bb/warm/f.####.exr' --frames 1-2 -q $SCENE
+for round in 1 2 3; do
+    # shellcheck disable=SC2086
+    timed "batch-$round" "$IN" -o "$W" --frames "1-$N" -q $SCENE
+    rm -rf /tmp/bb/out && mv /tmp/bb/w /tmp/bb/out
+    timed "io-only-$round" "$IN" -o "$W" --frames "1-$N" -q --io-only
+    timed "io-only-composited-$round" '/tmp/bb/out/f.####.exr' -o "$W" --frames "1-$N" -q --io-only
+done
+rm -rf /tmp/bb/w
+# shellcheck disable=SC2086
+batch "$IN" -o "$W" --frames "1-$N" --timing $SCENE
+ls -l /tmp/bb/in/f.0001.exr /tmp/bb/out/f.0001.exr >>"$OUT/batch.log" 2>&1
+}
+
 for section in $SECTIONS; do section_$section; done
 date -u >>"$OUT/machine.txt"
 save_cache
