@@ -35,7 +35,7 @@ inline DcEdgeSpread dc_edge_spread_along(__constant const DcFrame* f, float2 g) 
 }
 
 /* The share on the side a <= a0 + delta. */
-inline float dc_edge_share(const DcEdgeSpread* e, float delta) {
+DC_CPU_INLINE float dc_edge_share(const DcEdgeSpread* e, float delta) {
     const float t = delta * e->scale;
     if (!(fabs(t) < 1.0f)) return t > 0.0f ? 1.0f : 0.0f;
     const float sj = fabs(t) * (float)(DC_EDGE_SPREAD_STEPS - 1);
@@ -47,7 +47,7 @@ inline float dc_edge_share(const DcEdgeSpread* e, float delta) {
 }
 
 /* The filter's share where lo <= a <= hi, a = a0 + g . (u, v). */
-inline float dc_slab_share(__constant const DcFrame* f, float a0, float2 g, float lo, float hi) {
+DC_CPU_INLINE float dc_slab_share(__constant const DcFrame* f, float a0, float2 g, float lo, float hi) {
     /* the footprint wholly inside or outside: no table */
     const float reach = dc_edge_reach(f, g);
     if (a0 - reach >= lo && a0 + reach <= hi) return 1.0f;
@@ -79,9 +79,9 @@ inline DcTexelSpan dc_texel_span(__constant const DcFrame* f, float c0, float2 g
     return span;
 }
 
-/* The share below column `i` of the span's (its left edge's edge-spread share). The shares are
- * computed as they are read, not kept in an array: a private array indexed by a loop variable
- * lives in memory on GPUs (a 96-byte stack slot per array and texture). */
+/* The share below column `i` of the span's (its left edge's edge-spread share). On GPUs the shares
+ * are computed as they are read, not kept in an array: a private array indexed by a loop variable
+ * lives in memory there (a 96-byte stack slot per array and texture). */
 inline float dc_texel_share_below(const DcTexelSpan* span, int i) {
     return dc_edge_share(&span->e, (float)(span->first + i) - span->c0);
 }
@@ -105,19 +105,37 @@ DC_INLINE float4 dc_integrate_slice(__constant const DcFrame* f, __global const 
     const float2 size = (float2)((float)t.width, (float)t.height);
     const DcTexelSpan ss = dc_texel_span(f, st.x * size.x, (float2)(st_u.x, st_v.x) * size.x, t.width);
     const DcTexelSpan ts = dc_texel_span(f, st.y * size.y, (float2)(st_u.y, st_v.y) * size.y, t.height);
+    /* the spans lie within the texture (dc_texel_span): rows are read without clamping */
+    __global const float4* first_row =
+        texels + t.offset + (clamp(slice, 0, t.depth - 1) * t.height + ts.first) * t.width + ss.first;
+#ifdef DC_CPU_DEVICE
+    /* scalar work-items: each column's share once, not once per row (PoCL: `:fast` 5 % faster) */
+    float column_share[DC_INTEGRATED_TEXELS];
+    float below_column = dc_texel_share_below(&ss, 0);
+    for (int i = 0; i < ss.count; ++i) {
+        const float next = dc_texel_share_below(&ss, i + 1);
+        column_share[i] = next - below_column;
+        below_column = next;
+    }
+#endif
     float4 sum = (float4)(0.0f);
     float below_t = dc_texel_share_below(&ts, 0);
     for (int j = 0; j < ts.count; ++j) {
         const float next_t = dc_texel_share_below(&ts, j + 1), share_t = next_t - below_t;
         below_t = next_t;
         if (!(share_t > 0.0f)) continue;
+        __global const float4* texel_row = first_row + j * t.width;
         float4 row = (float4)(0.0f);
+#ifdef DC_CPU_DEVICE
+        for (int i = 0; i < ss.count; ++i) row += texel_row[i] * column_share[i];
+#else
         float below_s = dc_texel_share_below(&ss, 0);
         for (int i = 0; i < ss.count; ++i) {
             const float next_s = dc_texel_share_below(&ss, i + 1);
-            row += dc_texel(texels, t, ss.first + i, ts.first + j, slice) * (next_s - below_s);
+            row += texel_row[i] * (next_s - below_s);
             below_s = next_s;
         }
+#endif
         sum += row * share_t;
     }
     return sum;

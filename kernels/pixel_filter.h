@@ -52,7 +52,7 @@ inline float dc_tap_share(const DcTaps* t, float u, float v) {
 
 /* The rays of pixel (x, y)'s footprint (dc_pixel_ray at its centre and one pixel right and down):
  * one unprojection, the neighbours' by the inverse projection's steps per pixel. */
-inline void dc_pixel_rays(__constant const DcFrame* f, int x, int y, DcTapRays* r) {
+DC_CPU_INLINE void dc_pixel_rays(__constant const DcFrame* f, int x, int y, DcTapRays* r) {
     const __constant float* m = f->inv_projection;
     const float2 ndc = dc_pixel_ndc(f, x, y);
     const float4 c = dc_mul4_constant(m, (float4)(ndc, 0.0f, 1.0f));
@@ -93,8 +93,8 @@ inline bool dc_tap_point(const DcTapRays* r, const DcTapPlane* plane, float u, f
 #define DC_FILTER_DEPTH_SLACK 0.05f
 
 /* Sets up a plane through `point` with unit normal n for the rays; false at grazing angles. */
-inline bool dc_tap_plane(__constant const DcFrame* f, const DcTapRays* rays, float3 point, float3 n,
-                         DcTapPlane* plane) {
+DC_CPU_INLINE bool dc_tap_plane(__constant const DcFrame* f, const DcTapRays* rays, float3 point, float3 n,
+                                DcTapPlane* plane) {
     plane->p = point;
     plane->n = n;
     float3 c, a, b;
@@ -279,6 +279,12 @@ inline void dc_split_silhouette(__constant const DcFrame* f, __global const floa
 /* how far the split's mix of the faces' normals may miss the pixel's normal */
 #define DC_CREASE_NORMAL_FIT 0.15f
 
+/* Whether a normal pass is shorter than a clean one (and not zero): a pixel averaging faces. */
+inline bool dc_mixed_normal(float3 normal_pass) {
+    const float len = length(normal_pass);
+    return len < DC_MIXED_NORMAL_LENGTH && len > 0.0f;
+}
+
 /* The two faces around pixel (x, y) whose mixed normal pass is `mix`: their world normals and
  * nearest clean pixels. Pass 0 takes the clean normal turned furthest from the mix, pass 1 the one
  * turned furthest from that, pass 2 gives each clean pixel to the nearer of the two. False where
@@ -328,14 +334,14 @@ inline float dc_crease_side(const DcTapRays* r, const DcTapPlane* a, const DcTap
     return dot(o - a->p, a->n) * dot(d, b->n) - dot(o - b->p, b->n) * dot(d, a->n);
 }
 
-/* Splits a crease pixel's taps between its two faces (see above); leaves t as it is elsewhere. */
+/* Splits a crease pixel's taps between its two faces (see above); leaves t as it is elsewhere.
+ * `mix`: the pixel's own normal pass (original1's at the pixel, as the kernel already loaded it). */
 inline void dc_split_crease(__constant const DcFrame* f, __global const float* depth_plane,
                             __global const float4* position_plane, __global const float4* original0,
                             __global const float4* original1, __global const float* clean_depths, int x, int y,
-                            float3 p, DcTaps* t) {
+                            float3 p, float3 mix, DcTaps* t) {
     const size_t i = (size_t)y * f->width + x;
-    const float3 mix = original1[i].xyz;
-    if (!(length(mix) < DC_MIXED_NORMAL_LENGTH) || !(length(mix) > 0.0f)) return;
+    if (!dc_mixed_normal(mix)) return;
     float3 face[2];
     int2 px[2];
     if (!dc_crease_faces(f, depth_plane, position_plane, original1, clean_depths, x, y, mix, face, px)) return;
@@ -396,11 +402,12 @@ inline void dc_split_crease(__constant const DcFrame* f, __global const float* d
 /* How pixel (x, y) at p with camera-space unit normal n is integrated (docs/pixel-filter.md
  * "Mixed pixels"): over its own tangent plane, also at silhouettes and creases (whose averaged
  * depth and normal make a plane between the surfaces), but point-sampled beside background and
- * at grazing angles. */
-inline DcTaps dc_taps(__constant const DcFrame* f, __global const float* depth_plane,
-                      __global const float4* position_plane, __global const float4* original0,
-                      __global const float4* original1, __global const float* clean_depths, int has_normal, int x,
-                      int y, float3 p, float3 n) {
+ * at grazing angles. `normal_pass`: the pixel's world normal as the file holds it (original1's at
+ * the pixel, which the caller has loaded already). */
+DC_CPU_INLINE DcTaps dc_taps(__constant const DcFrame* f, __global const float* depth_plane,
+                             __global const float4* position_plane, __global const float4* original0,
+                             __global const float4* original1, __global const float* clean_depths, int has_normal,
+                             int x, int y, float3 p, float3 n, float3 normal_pass) {
     DcTaps t;
     t.mode = DC_TAPS_POINT;
     /* the 4-neighbours' largest view-depth step (planar depth reads them without unprojecting):
@@ -409,10 +416,12 @@ inline DcTaps dc_taps(__constant const DcFrame* f, __global const float* depth_p
     if (depth_step == MAXFLOAT) return t;
     dc_pixel_rays(f, x, y, &t.rays);
     if (dc_tap_plane(f, &t.rays, p, n, &t.plane)) t.mode = DC_TAPS_PLANE;
-    dc_split_silhouette(f, depth_plane, position_plane, original0, original1, clean_depths, has_normal, x, y, p,
-                        depth_step, &t);
-    if (has_normal && t.mode == DC_TAPS_PLANE)
-        dc_split_crease(f, depth_plane, position_plane, original0, original1, clean_depths, x, y, p, &t);
+    /* (each split's own first test here too: most pixels then skip a call, on CPUs a costly one) */
+    if (depth_step > DC_MIXED_DEPTH_JUMP * -p.z)
+        dc_split_silhouette(f, depth_plane, position_plane, original0, original1, clean_depths, has_normal, x, y, p,
+                            depth_step, &t);
+    if (has_normal && t.mode == DC_TAPS_PLANE && dc_mixed_normal(normal_pass))
+        dc_split_crease(f, depth_plane, position_plane, original0, original1, clean_depths, x, y, p, normal_pass, &t);
     return t;
 }
 

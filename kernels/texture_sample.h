@@ -169,7 +169,8 @@ inline float4 dc_sample_cube(__global const float4* texels, DcTexture t, float3 
  * rays meet the surface's tangent plane: log2 of the longer footprint axis in level-0 texels. */
 inline float dc_lod(float2 st, float2 st_dx, float2 st_dy, DcTexture t) {
     const float2 size = (float2)((float)t.width, (float)t.height);
-    const float rho = fmax(length((st_dx - st) * size), length((st_dy - st) * size));
+    const float2 a = (st_dx - st) * size, b = (st_dy - st) * size;
+    const float rho = sqrt(fmax(dot(a, a), dot(b, b))); /* the longer axis: one square root */
     return rho > 1.0f ? log2(rho) : 0.0f;
 }
 
@@ -187,19 +188,19 @@ inline float dc_lod_volume(float3 l, float3 l_dx, float3 l_dy, DcTexture t) {
 #define DC_LEVEL_CUBE 1
 #define DC_LEVEL_VOLUME 2
 
-inline float4 dc_sample_level(__global const float4* texels, DcTexture t, float s, float tc, float r, int slice,
-                              int how) {
+DC_CPU_INLINE float4 dc_sample_level(__global const float4* texels, DcTexture t, float s, float tc, float r, int slice,
+                                     int how) {
     if (how == DC_LEVEL_VOLUME) return dc_sample_3d(texels, t, s, tc, r, DC_FILTER_LINEAR);
     if (how == DC_LEVEL_CUBE) return dc_sample_cube_face(texels, t, s, tc, slice, DC_FILTER_LINEAR);
     return dc_sample_slice(texels, t, s, tc, slice, DC_FILTER_LINEAR);
 }
 
 /* Mip lookup: the two levels around lod, each filtered `how`, blended (quadrilinear for volumes). */
-inline float4 dc_sample_chain(__global const float4* texels, __global const DcTexture* textures, int index, float s,
-                              float tc, float r, int slice, float lod, int how) {
+DC_CPU_INLINE float4 dc_sample_chain(__global const float4* texels, __global const DcTexture* textures, int index,
+                                     float s, float tc, float r, int slice, float lod, int how) {
     const int levels = textures[index].levels;
     lod = clamp(lod, 0.0f, (float)(levels - 1));
-    const int l0 = (int)floor(lod);
+    const int l0 = (int)dc_floor_clamped(lod);
     const int l1 = min(l0 + 1, levels - 1);
     const float4 a = dc_sample_level(texels, textures[index + l0], s, tc, r, slice, how);
     const float f = lod - (float)l0;

@@ -105,8 +105,11 @@ std::chrono::milliseconds slowBuildNoticeAfter();
 // DECALCOMP_KERNEL_DIR in the environment makes it read and assemble that directory instead
 // (iteration); a missing include then throws Error(Device) naming file and line.
 std::string programSource();
-// Options used for every build.
-std::string buildOptions();
+// Options used for every build on a device of this type (DeviceInfo::type): CPU devices get
+// -DDC_CPU_DEVICE, the kernels' code shaped for scalar work-items (kernels/shared_types.h).
+// $DECALCOMP_KERNEL_FLAVOUR=gpu or cpu builds any device one way (the GPUs' code tested on PoCL);
+// another value throws Error(Usage).
+std::string buildOptions(const std::string& device_type);
 // The programs ComputeDevice builds, for their register caps.
 enum class ProgramKind {
     Point,    // binning and point-sampled shading (ComputeDevice::program)

@@ -177,7 +177,8 @@ void ComputeDevice::setSlowBuildNotice(std::chrono::milliseconds after, BuildNot
 
 cl::Program& ComputeDevice::program() {
     return buildOnce(point_program_,
-                     buildOptions() + registerCap(info_.device.getInfo<CL_DEVICE_EXTENSIONS>(), ProgramKind::Point) +
+                     buildOptions(info_.type) +
+                         registerCap(info_.device.getInfo<CL_DEVICE_EXTENSIONS>(), ProgramKind::Point) +
                          " -DDC_POINT_SHADING_ONLY",  // (kernels/shading.cl)
                      "binning and point-sampled shading");
 }
@@ -195,13 +196,13 @@ cl::Program& ComputeDevice::shadingProgram(int variant, const ShadingPaths& path
     if (paths.taps) what = "the pixel filter's taps";
     if (paths.fast) what += fmt::format("{}the pixel filter in closed form", what.empty() ? "" : ", ");
     if (paths.rest) what += fmt::format("{}texture-space decals", what.empty() ? "" : ", ");
-    return buildOnce(
-        *lazy,
-        fmt::format("{}{} -DDC_SHADING_PROGRAM -DDC_SHADE_VARIANT={} -DDC_PATH_TAPS={:d} "
-                    "-DDC_PATH_FAST={:d} -DDC_PATH_REST={:d}",
-                    buildOptions(), registerCap(info_.device.getInfo<CL_DEVICE_EXTENSIONS>(), ProgramKind::Shading),
-                    variant, paths.taps, paths.fast, paths.rest),
-        "shading with " + (what.empty() ? std::string("no path") : what));
+    return buildOnce(*lazy,
+                     fmt::format("{}{} -DDC_SHADING_PROGRAM -DDC_SHADE_VARIANT={} -DDC_PATH_TAPS={:d} "
+                                 "-DDC_PATH_FAST={:d} -DDC_PATH_REST={:d}",
+                                 buildOptions(info_.type),
+                                 registerCap(info_.device.getInfo<CL_DEVICE_EXTENSIONS>(), ProgramKind::Shading),
+                                 variant, paths.taps, paths.fast, paths.rest),
+                     "shading with " + (what.empty() ? std::string("no path") : what));
 }
 
 namespace {

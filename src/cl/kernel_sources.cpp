@@ -108,9 +108,19 @@ std::string registerCap(const std::string& device_extensions, ProgramKind progra
     return cap > 0 ? fmt::format(" -cl-nv-maxrregcount={}", cap) : "";
 }
 
+bool cpuFlavour(const std::string& device_type) {
+    constexpr const char* kVariable = "DECALCOMP_KERNEL_FLAVOUR";
+    const char* forced = std::getenv(kVariable);
+    if (!forced || !*forced) return device_type == "cpu";
+    if (std::string_view(forced) == "cpu" || std::string_view(forced) == "gpu")
+        return std::string_view(forced) == "cpu";
+    throw Error(ErrorKind::Usage, fmt::format("{}={}: not a kernel flavour; cpu or gpu", kVariable, forced));
+}
+
 // DECALCOMP_CL_OPTIONS appends options (e.g. "-cl-nv-verbose" to see register use on NVIDIA).
-std::string buildOptions() {
+std::string buildOptions(const std::string& device_type) {
     std::string options = "-cl-std=CL1.2";
+    if (cpuFlavour(device_type)) options += " -DDC_CPU_DEVICE";  // (kernels/shared_types.h)
     if (const char* extra = std::getenv("DECALCOMP_CL_OPTIONS")) options += std::string(" ") + extra;
     return options;
 }
