@@ -107,18 +107,17 @@ DC_CPU_INLINE bool dc_tap_plane(__constant const DcFrame* f, const DcTapRays* ra
     /* The footprint's corners: the ray at offset (u, v) meets the plane at
      * t = (k - g(u, v)) / e(u, v), g and e affine in (u, v), so only their view depth is computed.
      * Behind the camera (t <= 0), parallel (e = 0: an infinite depth) or more than
-     * DC_FILTER_GRAZING away in depth: grazing. */
+     * DC_FILTER_GRAZING away in depth: grazing. The four corners are a vector's lanes (a CPU's
+     * work-item then divides once for all four). */
     const float r = f->filter_radius;
     const float k = dot(c, n);
     const float g0 = dot(rays->origin, n), gu = dot(rays->origin_u, n), gv = dot(rays->origin_v, n);
     const float e0 = dot(rays->dir, n), eu = dot(rays->dir_u, n), ev = dot(rays->dir_v, n);
-    for (int corner = 0; corner < 4; ++corner) {
-        const float u = (corner & 1) ? r : -r, v = (corner & 2) ? r : -r;
-        const float t = (k - (g0 + gu * u + gv * v)) / (e0 + eu * u + ev * v);
-        const float z = rays->origin.z + rays->origin_u.z * u + rays->origin_v.z * v +
-                        (rays->dir.z + rays->dir_u.z * u + rays->dir_v.z * v) * t;
-        if (!(t > 0.0f) || !(fabs(z - c.z) <= DC_FILTER_GRAZING * fabs(c.z))) return false;
-    }
+    const float4 u = (float4)(-r, r, -r, r), v = (float4)(-r, -r, r, r);
+    const float4 t = (k - (g0 + gu * u + gv * v)) / (e0 + eu * u + ev * v);
+    const float4 z = rays->origin.z + rays->origin_u.z * u + rays->origin_v.z * v +
+                     (rays->dir.z + rays->dir_u.z * u + rays->dir_v.z * v) * t;
+    if (!all(t > 0.0f) || !all(fabs(z - c.z) <= DC_FILTER_GRAZING * fabs(c.z))) return false;
     /* Within DC_FILTER_GRAZING of the centre's depth, the projective map strays less than 25 %
      * from its linear part (docs/pixel-filter.md "Integrated evaluation"): this bounds every tap. */
     const float step = 0.5f * f->filter_step, du = length(plane->du), dv = length(plane->dv);

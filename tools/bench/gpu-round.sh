@@ -148,6 +148,48 @@ for round in 1 2; do
 done
 }
 
+# The register caps around the shipped ones (stop 52's next measurement): the point program at 64
+# (shipped), 56 and 48 (5 groups of 256 work-items on a multiprocessor instead of 4; 56 a control),
+# the shading programs at 128 (shipped) and 96, alternated twice (not in the default SECTIONS).
+section_regcaps() {
+for round in 1 2; do
+    for cap in 64 56 48; do
+        E_CAPS=$E
+        E="env DECALCOMP_POINT_REGISTERS=$cap $E_CAPS"
+        step "regcap-point-$cap-$round" --repeat 10 --sizes 1920x1080,3840x2160 --counts 1,4096 --modes binned \
+            --no-transfers
+        E=$E_CAPS
+    done
+    for cap in 128 96; do
+        E_CAPS=$E
+        E="env DECALCOMP_SHADING_REGISTERS=$cap $E_CAPS"
+        step "regcap-shading-$cap-$round" --repeat 10 --sizes 1920x1080 --counts 1024 --modes binned --no-transfers \
+            --pixel-filter blackman-harris:3:fast
+        E=$E_CAPS
+    done
+    [ "$round" = 1 ] && save_cache
+done
+}
+
+# The kernels' CPU flavour on the GPU (DECALCOMP_KERNEL_FLAVOUR=cpu: helpers forced inline, column
+# shares in an array, rows read ahead; docs/decisions.md) against the GPU's own, point-sampled and
+# `:fast`, alternated twice (not in the default SECTIONS; the CPU flavour builds cold). The hashes
+# must agree.
+section_flavour() {
+for round in 1 2; do
+    for flavour in gpu cpu; do
+        E_FLAVOUR=$E
+        E="env DECALCOMP_KERNEL_FLAVOUR=$flavour $E_FLAVOUR"
+        step "flavour-$flavour-point-$round" --repeat 10 --sizes 1920x1080,3840x2160 --counts 1024,4096 \
+            --modes binned --no-transfers
+        step "flavour-$flavour-fast-$round" --repeat 10 --sizes 1920x1080 --counts 1024 --modes binned \
+            --no-transfers --pixel-filter blackman-harris:3:fast
+        E=$E_FLAVOUR
+        [ "$round" = 1 ] && save_cache
+    done
+done
+}
+
 # A/B of kernel changes: the binary's kernels against each folder of AB_KERNELS (space-separated,
 # e.g. ".gpu/k1 .gpu/k2", copies of kernels/ with a change each), alternated AB_ROUNDS times (default
 # 2), with the bench arguments AB_ARGS (default: issue 15's `:fast` case). Rows are ab-NAME-ROUND,
