@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -65,6 +66,54 @@ TEST_P(TileKernelForms, GroupsAndSerialGiveTheSameListsAndPixels) {
     ASSERT_EQ(a.size(), b.size());
     EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(float)));
     EXPECT_NE(b, frame.planes.at(Attribute::Albedo).samples) << "no decal reached the frame";
+}
+
+// The serial form reads a whole tile row of planar depth as one vector; a frame whose depth pass
+// holds every value dc_view_depth refuses (NaN, infinities, zero, negative, nearer than the near
+// limit, at the background depth) gives both forms the same tile ranges, empty tiles included.
+TEST(TileKernelForms, HostileDepthsGiveTheSameTileRanges) {
+    const Camera camera = synth::demoCamera(200, 150);
+    GBuffer frame = synth::render(synth::demoScene(), camera, {200, 150});
+    ASSERT_EQ(frame.depth_convention, DepthConvention::Planar);
+    const float hostile[] = {std::numeric_limits<float>::quiet_NaN(),
+                             std::numeric_limits<float>::infinity(),
+                             -std::numeric_limits<float>::infinity(),
+                             0.0f,
+                             -2.0f,
+                             1e-7f,
+                             1e10f,
+                             3e38f};
+    Plane& depth = frame.planes.at(Attribute::Depth);
+    for (int y = 0; y < frame.height; ++y)
+        for (int x = 0; x < frame.width; ++x) {
+            const int tile = (y / 16) * 13 + x / 16;
+            const std::size_t i = std::size_t(y) * frame.width + x;
+            if (tile % 3 == 0)
+                depth.at(i, 0) = hostile[(x + 3 * y) % 8];  // mixed with valid depths
+            else if (tile % 7 == 1)
+                depth.at(i, 0) = hostile[(x * y) % 8];  // nothing valid: an empty tile
+        }
+    synth::ScatterOptions scatter{40, 0.2, 1.0};
+    scatter.seed = 5;
+    const DecalScene scene =
+        synth::scatterDecals(synth::render(synth::demoScene(), camera, {200, 150}), camera, scatter);
+    auto tileDepths = [&](TileKernels kind) {
+        Compositor compositor(test::cpuDevice());
+        compositor.setScene(scene);
+        GBuffer out = frame;
+        CompositeOptions options;
+        options.tile_kernels = kind;
+        compositor.composite(out, camera, options);
+        return compositor.lastBinning().tile_depth;
+    };
+    const auto groups = tileDepths(TileKernels::Groups), serial = tileDepths(TileKernels::Serial);
+    ASSERT_EQ(groups.size(), serial.size());
+    ASSERT_EQ(serial.size(), 2u * 13 * 10);  // (min, max) per tile
+    EXPECT_EQ(std::memcmp(groups.data(), serial.data(), serial.size() * sizeof(float)), 0);
+    std::size_t empty = 0;
+    for (std::size_t t = 0; t < serial.size(); t += 2) empty += !(serial[t] <= serial[t + 1]);
+    EXPECT_GT(empty, 0u) << "some tile should hold no valid depth";
+    EXPECT_LT(empty, serial.size() / 4);
 }
 
 }  // namespace
