@@ -1,15 +1,15 @@
 // The command line: bad inputs exit non-zero with a one-line message naming the file and field,
 // and leave no output (nor temporary) file behind.
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
 
 #include "support/test_support.hpp"
 
@@ -184,6 +184,33 @@ TEST(Cli, KernelBuildsRunningLongSaySo) {
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("DECALCOMP_BUILD_NOTICE_AFTER=soon: not a number of seconds"), std::string::npos)
         << r.output;
+    EXPECT_EQ(filesIn(refused.path()), 0u) << "output or temporary files were left behind";
+}
+
+// DECALCOMP_KERNEL_FLAVOUR=gpu builds PoCL's kernels the GPUs' way: the same file byte for byte; a
+// flavour that is neither is a usage error naming it, with nothing written.
+TEST(Cli, KernelFlavourGivesTheSameFileOrAUsageError) {
+    const auto composite = [](const test::ScratchDir& out, const char* name) {
+        return shellQuote(DECALCOMP_CLI) + " composite " + blender("gbuffer.exr") + " --decals " +
+               blender("scene.json") + " --camera " + blender("camera.json") + " --device cpu -q -o " +
+               shellQuote(out.file(name));
+    };
+    test::ScratchDir dir;
+    auto r = test::runCommand(composite(dir, "cpu.exr"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    r = test::runCommand("DECALCOMP_KERNEL_FLAVOUR=gpu " + composite(dir, "gpu.exr"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto bytes = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    const std::string cpu = bytes(dir.file("cpu.exr"));
+    EXPECT_GT(cpu.size(), 100000u);
+    EXPECT_EQ(cpu, bytes(dir.file("gpu.exr")));
+    test::ScratchDir refused;
+    r = test::runCommand("DECALCOMP_KERNEL_FLAVOUR=scalar " + composite(refused, "o.exr"));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_EQ(r.output, "decalcomp: error: DECALCOMP_KERNEL_FLAVOUR=scalar: not a kernel flavour; cpu or gpu\n");
     EXPECT_EQ(filesIn(refused.path()), 0u) << "output or temporary files were left behind";
 }
 
