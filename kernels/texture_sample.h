@@ -169,8 +169,9 @@ inline float4 dc_sample_cube(__global const float4* texels, DcTexture t, float3 
  * rays meet the surface's tangent plane: log2 of the longer footprint axis in level-0 texels. */
 inline float dc_lod(float2 st, float2 st_dx, float2 st_dy, DcTexture t) {
     const float2 size = (float2)((float)t.width, (float)t.height);
-    const float2 a = (st_dx - st) * size, b = (st_dy - st) * size;
-    const float rho = sqrt(fmax(dot(a, a), dot(b, b))); /* the longer axis: one square root */
+    /* (one square root of the larger squared length gave other bits on NVIDIA, whose length() is
+     * not sqrt(dot), and ran 2 % slower there: docs/benchmarks.md stop 53) */
+    const float rho = fmax(length((st_dx - st) * size), length((st_dy - st) * size));
     return rho > 1.0f ? log2(rho) : 0.0f;
 }
 
