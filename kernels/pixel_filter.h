@@ -3,10 +3,11 @@
 #ifndef DECALCOMP_PIXEL_FILTER_H
 #define DECALCOMP_PIXEL_FILTER_H
 
-#include "shared_types.h"
+#include "clean_depth.h"
+#include "frame_reads.h"
 #include "matrix.h"
 #include "reconstruct.h"
-#include "clean_depth.h"
+#include "shared_types.h"
 
 /* The rays of a pixel's footprint: origin(u, v) + t dir(u, v), affine in the pixel offset (u, v)
  * from its centre (exact for projective cameras). */
@@ -257,7 +258,7 @@ inline void dc_split_silhouette(__constant const DcFrame* f, __global const floa
     s.split_c = 0.5f * (lo + hi);
     s.material[0] = original0[in];
     s.material[1] = original0[jf];
-    const bool has_group1 = (f->attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
+    const bool has_group1 = dc_has_group1(f);
     s.metallic[0] = has_group1 ? original1[in].w : 0.0f;
     s.metallic[1] = has_group1 ? original1[jf].w : 0.0f;
     s.normal[0] = s.plane.n;

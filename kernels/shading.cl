@@ -4,6 +4,7 @@
  * (emission, ao); DcFrame::attributes says which of their parts the frame has. */
 #include "beauty.h"
 #include "decal_kinds.h"
+#include "frame_reads.h"
 #include "materials.h"
 #include "matrix.h"
 #include "occlusion.h"
@@ -346,9 +347,7 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
                                     __global const float4* rest_frames, const int variant, int x, int y,
                                     float depth, float4 in0_loaded) {
     const size_t i = (size_t)y * frame->width + x;
-    const int attributes = frame->attributes;
-    const bool has_group1 = (attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
-    const bool has_group2 = (attributes & ((1 << DC_TARGET_EMISSION) | (1 << DC_TARGET_AO))) != 0;
+    const bool has_group1 = dc_has_group1(frame), has_group2 = dc_has_group2(frame);
     /* Binning leaves each decal's pixel range (with the filter taps' reach): a decal whose range
      * misses the pixel does not reach it, and the point-sampled and closed-form loops below skip it
      * before any transform (the taps test each decal's reach on the footprint's plane instead).
@@ -495,23 +494,22 @@ inline float3 dc_shade_listed_pixel(__constant const DcFrame* frame, __global co
 #ifdef DC_CPU_DEVICE
 /* A CPU device runs a tile's work-items one after another, row by row, each row a new stream that
  * the hardware prefetcher does not follow: every first read of a plane's cache line waited in
- * full. The tile's first DC_TILE_SIZE work-items each read one of its rows ahead (a plain
- * load whose value is dropped: OpenCL C 1.2's prefetch() does nothing on PoCL), so the misses
- * overlap (PoCL: `:fast` 3 % faster, docs/benchmarks.md stop 53). */
+ * full. The tile's first DC_TILE_SIZE work-items each read one of its rows ahead (dc_touch), so
+ * the misses overlap (PoCL: `:fast` 3 % faster, docs/benchmarks.md stop 53). */
 inline void dc_touch_tile_row(__constant const DcFrame* frame, __global const float* depth_plane,
                               __global const float4* surface0, __global const float4* surface1, int row_in_tile) {
     const int y = min((int)get_group_id(1) * DC_TILE_SIZE + row_in_tile, frame->height - 1);
     const int x = min((int)get_group_id(0) * DC_TILE_SIZE, frame->width - 1);
     const size_t first = (size_t)y * frame->width + x;
     const int last = min(DC_TILE_SIZE, frame->width - x) - 1;
-    const bool has_group1 = (frame->attributes & ((1 << DC_TARGET_NORMAL) | (1 << DC_TARGET_METALLIC))) != 0;
+    const bool has_group1 = dc_has_group1(frame);
     for (int k = 0; k <= last; k += 4) { /* a 64-byte line holds 4 pixels of a float4 plane */
-        (void)*(const volatile __global float*)(surface0 + first + k);
-        if (has_group1) (void)*(const volatile __global float*)(surface1 + first + k);
+        dc_touch((const __global float*)(surface0 + first + k));
+        if (has_group1) dc_touch((const __global float*)(surface1 + first + k));
     }
     if (frame->has_depth) {
-        (void)*(const volatile __global float*)(depth_plane + first);
-        (void)*(const volatile __global float*)(depth_plane + first + last);
+        dc_touch(depth_plane + first);
+        dc_touch(depth_plane + first + last);
     }
 }
 #endif

@@ -1,15 +1,16 @@
 // The command line: bad inputs exit non-zero with a one-line message naming the file and field,
 // and leave no output (nor temporary) file behind.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
-#include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <nlohmann/json.hpp>
 
 #include "support/test_support.hpp"
 

@@ -10,7 +10,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -89,19 +88,6 @@ double srgbDecode(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.
 // ---- fixtures ----
 
 std::string config() { return test::dataPath("ocio/config.ocio"); }
-
-// $OCIO set (or unset) for one test, restored after.
-class OcioVariable {
-public:
-    explicit OcioVariable(const char* value) {
-        if (const char* old = std::getenv("OCIO")) old_ = old;
-        value ? setenv("OCIO", value, 1) : unsetenv("OCIO");
-    }
-    ~OcioVariable() { old_ ? setenv("OCIO", old_->c_str(), 1) : unsetenv("OCIO"); }
-
-private:
-    std::optional<std::string> old_;
-};
 
 // 8-bit straight-alpha RGBA written as stored.
 void writePng(const std::string& path, int w, int h, const std::vector<std::uint8_t>& rgba) {
@@ -218,7 +204,7 @@ TEST(ColourTexture, WithoutAWorkingSpaceTexturesLandInLinearRec709) {
 TEST(ColourTexture, ScenesThatNameNoColourSpaceKeepTheExactBuiltInDecode) {
     ScratchDir dir;
     writePng(dir.file("logo.png"), 2, 1, kPixels);
-    const OcioVariable ocio(config().c_str());  // a config in the environment changes nothing
+    const test::ScopedEnv ocio("OCIO", config().c_str());  // a config in the environment changes nothing
     const DecalScene scene = parse(sceneText(R"("logo.png")"), dir, "");
     EXPECT_EQ(scene.working_space, "");
     EXPECT_EQ(scene.colour_config, "");
@@ -243,7 +229,7 @@ TEST(ColourTexture, DataMapsAreNeverConverted) {
 TEST(ColourTexture, ConfigComesFromTheEnvironment) {
     ScratchDir dir;
     writePng(dir.file("logo.png"), 2, 1, kPixels);
-    const OcioVariable ocio(config().c_str());
+    const test::ScopedEnv ocio("OCIO", config().c_str());
     const DecalScene scene = parse(sceneText(R"("logo.png")", R"("working_space": "ACEScg")"), dir, "");
     EXPECT_EQ(scene.colour_config, config());
     EXPECT_EQ(scene.working_space, "ACEScg");
@@ -257,7 +243,7 @@ TEST(ColourErrors, NameTheFieldAndTheFix) {
     ScratchDir dir;
     writePng(dir.file("logo.png"), 2, 1, kPixels);
     {
-        const OcioVariable none(nullptr);
+        const test::ScopedEnv none("OCIO", nullptr);
         EXPECT_EQ(sceneError(sceneText(R"("logo.png")", R"("working_space": "ACEScg")"), dir, ""),
                   "scene.json: working_space: colour spaces need an OpenColorIO config: give --ocio FILE or set $OCIO");
     }
@@ -392,7 +378,7 @@ TEST(ColourComposite, BatchTakesTheConfigAsCompositeDoes) {
     ASSERT_EQ(single.exit_code, 0) << single.output;
     EXPECT_EQ(readAlbedo(dir.file("out.0001.exr")).rgb, readAlbedo(dir.file("single.exr")).rgb);
     EXPECT_NE(readAlbedo(dir.file("out.0001.exr")).rgb, readAlbedo(dir.file("in.0001.exr")).rgb);
-    const OcioVariable none(nullptr);
+    const test::ScopedEnv none("OCIO", nullptr);
     const auto refused = test::runCli("batch " + shellQuote(dir.file("in.####.exr")) + " -o " +
                                       shellQuote(dir.file("again.####.exr")) + " --camera " +
                                       shellQuote(test::dataPath("sample/camera.json")) + " --decals " +

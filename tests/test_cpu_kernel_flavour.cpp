@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -18,27 +17,10 @@
 #include "decalcomp/synth.hpp"
 #include "decalcomp/synth_antialias.hpp"
 #include "support/random_scenes.hpp"
+#include "support/test_support.hpp"
 
 namespace decalcomp {
 namespace {
-
-// An environment variable set (or, with nullptr, unset) for the scope: programs build lazily, at a
-// device's first composite.
-class ScopedVariable {
-public:
-    ScopedVariable(const char* name, const char* value) : name_(name) {
-        const char* old = std::getenv(name);
-        had_ = old != nullptr;
-        if (old) old_ = old;
-        value ? setenv(name, value, 1) : unsetenv(name);
-    }
-    ~ScopedVariable() { had_ ? setenv(name_, old_.c_str(), 1) : unsetenv(name_); }
-
-private:
-    const char* name_;
-    std::string old_;
-    bool had_ = false;
-};
 
 GBuffer composite(ComputeDevice& device, const GBuffer& frame, const Camera& camera, const DecalScene& decals) {
     Compositor compositor(device);
@@ -48,13 +30,14 @@ GBuffer composite(ComputeDevice& device, const GBuffer& frame, const Camera& cam
     return out;
 }
 
-// Both builds' outputs on PoCL, each on a device of its own.
+// Both builds' outputs on PoCL, each on a device of its own (programs build lazily, at a device's
+// first composite, so the variable is set around it).
 std::pair<GBuffer, GBuffer> bothFlavours(const GBuffer& frame, const Camera& camera, const DecalScene& decals) {
-    const ScopedVariable flavour_unset("DECALCOMP_KERNEL_FLAVOUR", nullptr);
+    const test::ScopedEnv flavour_unset("DECALCOMP_KERNEL_FLAVOUR", nullptr);
     ComputeDevice cpu_way("cpu");
     GBuffer cpu = composite(cpu_way, frame, camera, decals);
     ComputeDevice gpu_way("cpu");
-    const ScopedVariable flavour("DECALCOMP_KERNEL_FLAVOUR", "gpu");
+    const test::ScopedEnv flavour("DECALCOMP_KERNEL_FLAVOUR", "gpu");
     GBuffer gpu = composite(gpu_way, frame, camera, decals);
     return {std::move(cpu), std::move(gpu)};
 }
@@ -79,22 +62,22 @@ std::size_t expectIdentical(const GBuffer& input, const GBuffer& cpu, const GBuf
 }
 
 TEST(KernelFlavour, CpuDevicesBuildTheCpuFlavour) {
-    const ScopedVariable options("DECALCOMP_CL_OPTIONS", nullptr);
+    const test::ScopedEnv options("DECALCOMP_CL_OPTIONS", nullptr);
     {
-        const ScopedVariable unset("DECALCOMP_KERNEL_FLAVOUR", nullptr);
+        const test::ScopedEnv unset("DECALCOMP_KERNEL_FLAVOUR", nullptr);
         EXPECT_EQ(buildOptions("cpu"), "-cl-std=CL1.2 -DDC_CPU_DEVICE");
         EXPECT_EQ(buildOptions("gpu"), "-cl-std=CL1.2");
         EXPECT_EQ(buildOptions("accelerator"), "-cl-std=CL1.2");
     }
     {
-        const ScopedVariable gpu("DECALCOMP_KERNEL_FLAVOUR", "gpu");
+        const test::ScopedEnv gpu("DECALCOMP_KERNEL_FLAVOUR", "gpu");
         EXPECT_EQ(buildOptions("cpu"), "-cl-std=CL1.2");
     }
     {
-        const ScopedVariable cpu("DECALCOMP_KERNEL_FLAVOUR", "cpu");
+        const test::ScopedEnv cpu("DECALCOMP_KERNEL_FLAVOUR", "cpu");
         EXPECT_EQ(buildOptions("gpu"), "-cl-std=CL1.2 -DDC_CPU_DEVICE");
     }
-    const ScopedVariable bad("DECALCOMP_KERNEL_FLAVOUR", "scalar");
+    const test::ScopedEnv bad("DECALCOMP_KERNEL_FLAVOUR", "scalar");
     try {
         buildOptions("cpu");
         ADD_FAILURE() << "a flavour that is neither cpu nor gpu was taken";

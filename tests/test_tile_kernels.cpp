@@ -36,6 +36,18 @@ INSTANTIATE_TEST_SUITE_P(Scenes, TileKernelForms,
                                            Case{"filtered", 300, 0.05, 0.6, "blackman-harris:3:fast"}),
                          [](const auto& scene) { return std::string(scene.param.name); });
 
+// The frame composited with one form of the per-tile kernels: its binning and planes.
+std::pair<BinningResult, GBuffer> compositeWith(TileKernels kind, const GBuffer& frame, const Camera& camera,
+                                                const DecalScene& scene) {
+    Compositor compositor(test::cpuDevice());
+    compositor.setScene(scene);
+    GBuffer out = frame;
+    CompositeOptions options;
+    options.tile_kernels = kind;
+    compositor.composite(out, camera, options);
+    return {compositor.lastBinning(), std::move(out)};
+}
+
 TEST_P(TileKernelForms, GroupsAndSerialGiveTheSameListsAndPixels) {
     const Case& c = GetParam();
     const Camera camera = synth::demoCamera(200, 150);
@@ -45,17 +57,8 @@ TEST_P(TileKernelForms, GroupsAndSerialGiveTheSameListsAndPixels) {
     scatter.seed = 11;
     const DecalScene scene = synth::scatterDecals(frame, camera, scatter);
 
-    auto run = [&](TileKernels kind) {
-        Compositor compositor(test::cpuDevice());
-        compositor.setScene(scene);
-        GBuffer out = frame;
-        CompositeOptions options;
-        options.tile_kernels = kind;
-        compositor.composite(out, camera, options);
-        return std::make_pair(compositor.lastBinning(), out);
-    };
-    const auto [groups, groups_frame] = run(TileKernels::Groups);
-    const auto [serial, serial_frame] = run(TileKernels::Serial);
+    const auto [groups, groups_frame] = compositeWith(TileKernels::Groups, frame, camera, scene);
+    const auto [serial, serial_frame] = compositeWith(TileKernels::Serial, frame, camera, scene);
 
     EXPECT_EQ(groups.tile_depth, serial.tile_depth);
     EXPECT_EQ(groups.tile_offsets, serial.tile_offsets);
@@ -97,16 +100,8 @@ TEST(TileKernelForms, HostileDepthsGiveTheSameTileRanges) {
     scatter.seed = 5;
     const DecalScene scene =
         synth::scatterDecals(synth::render(synth::demoScene(), camera, {200, 150}), camera, scatter);
-    auto tileDepths = [&](TileKernels kind) {
-        Compositor compositor(test::cpuDevice());
-        compositor.setScene(scene);
-        GBuffer out = frame;
-        CompositeOptions options;
-        options.tile_kernels = kind;
-        compositor.composite(out, camera, options);
-        return compositor.lastBinning().tile_depth;
-    };
-    const auto groups = tileDepths(TileKernels::Groups), serial = tileDepths(TileKernels::Serial);
+    const auto groups = compositeWith(TileKernels::Groups, frame, camera, scene).first.tile_depth;
+    const auto serial = compositeWith(TileKernels::Serial, frame, camera, scene).first.tile_depth;
     ASSERT_EQ(groups.size(), serial.size());
     ASSERT_EQ(serial.size(), 2u * 13 * 10);  // (min, max) per tile
     EXPECT_EQ(std::memcmp(groups.data(), serial.data(), serial.size() * sizeof(float)), 0);

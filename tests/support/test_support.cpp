@@ -7,8 +7,10 @@
 #include <array>
 #include <atomic>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <stdexcept>
+#include <utility>
 
 #include "decalcomp/error.hpp"
 #include "decalcomp/exr_file.hpp"
@@ -16,6 +18,13 @@
 #include "images/image_codecs.hpp"
 
 namespace decalcomp::test {
+
+ScopedEnv::ScopedEnv(std::string name, const char* value) : name_(std::move(name)) {
+    if (const char* old = std::getenv(name_.c_str())) old_ = old;
+    value ? setenv(name_.c_str(), value, 1) : unsetenv(name_.c_str());
+}
+
+ScopedEnv::~ScopedEnv() { old_ ? setenv(name_.c_str(), old_->c_str(), 1) : unsetenv(name_.c_str()); }
 
 std::string dataPath(const std::string& relative) { return std::string(DECALCOMP_DATA_DIR) + "/" + relative; }
 

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -13,6 +14,19 @@
 namespace decalcomp::test {
 
 std::string dataPath(const std::string& relative);  // path under the repository's data/
+
+// An environment variable set (or, with nullptr, unset) for the object's life, then restored.
+class ScopedEnv {
+public:
+    ScopedEnv(std::string name, const char* value);
+    ~ScopedEnv();
+    ScopedEnv(const ScopedEnv&) = delete;
+    ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+private:
+    std::string name_;
+    std::optional<std::string> old_;
+};
 
 // A fresh empty folder under the system temp dir, removed when the object dies.
 class ScratchDir {
